@@ -1,0 +1,35 @@
+//! Command-line interface: one subcommand a file.
+
+mod demo;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Continuous collision detection of moving spheres.
+#[derive(Debug, Parser)]
+#[command(name = "spheresweep", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Query the built-in demo scene for every sphere's first contact and print a table.
+    Demo(demo::Args),
+}
+
+/// Parses the command line and runs it; errors go to stderr with a non-zero exit code.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(args) => demo::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,81 @@
+//! Errors at the validation boundary: each names the shape, the field and what is wrong.
+
+use std::fmt;
+
+/// The kind of shape an error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ShapeKind {
+    /// A moving [`Sphere`](crate::Sphere).
+    Sphere,
+    /// A static infinite [`Plane`](crate::Plane).
+    Plane,
+    /// A static infinite [`Cylinder`](crate::Cylinder).
+    Cylinder,
+    /// A static spherical [`Container`](crate::Container).
+    Container,
+}
+
+impl fmt::Display for ShapeKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Plane => "plane",
+            ShapeKind::Cylinder => "cylinder",
+            ShapeKind::Container => "container",
+        })
+    }
+}
+
+/// What is wrong with a field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Problem {
+    /// The value (or one of its components) is NaN or infinite.
+    NotFinite,
+    /// A radius below zero.
+    Negative,
+    /// A mass that is zero or below.
+    NotPositive,
+    /// A direction of length zero (a plane normal or a cylinder axis with `p1 == p2`).
+    ZeroLength,
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Problem::NotFinite => "is NaN or infinite",
+            Problem::Negative => "is negative",
+            Problem::NotPositive => "must be greater than zero",
+            Problem::ZeroLength => "has zero length (degenerate direction)",
+        })
+    }
+}
+
+/// A shape was rejected by its constructor; no shape value ever holds invalid data.
+///
+/// ```
+/// use spheresweep::{Plane, Problem, ShapeKind};
+/// let err = Plane::new([0.0; 3], [0.0; 3]).unwrap_err();
+/// assert_eq!((err.kind, err.field, err.problem), (ShapeKind::Plane, "normal", Problem::ZeroLength));
+/// assert_eq!(err.to_string(), "plane normal has zero length (degenerate direction)");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
+#[error("{kind} {field} {problem}")]
+pub struct ShapeError {
+    /// The shape being built.
+    pub kind: ShapeKind,
+    /// The constructor argument at fault (`"centre"`, `"velocity"`, `"radius"`, `"mass"`,
+    /// `"point"`, `"normal"`, `"axis"`).
+    pub field: &'static str,
+    /// What is wrong with it.
+    pub problem: Problem,
+}
+
+impl ShapeError {
+    pub(crate) const fn new(kind: ShapeKind, field: &'static str, problem: Problem) -> Self {
+        Self {
+            kind,
+            field,
+            problem,
+        }
+    }
+}

@@ -1,0 +1,7 @@
+//! The `spheresweep` command-line tool.
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::run()
+}

@@ -1,0 +1,136 @@
+//! The one quadratic every pair kind reduces to, `A t² + B t + C = 0`, solved literally as the
+//! seed writes it, and the contact policy shared by every pair kind (in f64).
+//!
+//! Policy (docs/derivations/policies.md):
+//! - `A = 0` (no relative motion; then `B = 0` too): never a contact, never a division.
+//! - The contact is the root where the bodies *arrive* at distance `D`: the smaller root for an
+//!   exterior contact, the larger one for a sphere inside a container.
+//! - A root `t > 0` inside the window is the contact. A grazing contact (`B² − 4AC = 0`)
+//!   counts.
+//! - At `t = 0` there is a contact only if the bodies already touch or overlap **and** move
+//!   deeper (`C ≤ 0, B < 0` outside; `C ≥ 0, B > 0` inside). Touching and separating, or at
+//!   rest, is no contact.
+
+/// The coefficients of `A t² + B t + C = 0`, exactly as the seed defines them per pair kind.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quadratic {
+    /// `A = v·v` (never negative).
+    pub a: f64,
+    /// `B = 2 r0·v`.
+    pub b: f64,
+    /// `C = r0·r0 − D²`.
+    pub c: f64,
+}
+
+/// The seed's classification of the roots of a [`Quadratic`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Roots {
+    /// `A = 0`: no relative motion (the seed's "division by zero" case): never a contact.
+    NoMotion,
+    /// `B² − 4AC < 0`: no collision.
+    Complex,
+    /// `B² − 4AC = 0`: exactly one contact, grazing, at `t = −B / 2A`.
+    Double(f64),
+    /// `B² − 4AC > 0`: two contacts, `t1 < t2`, `t = (−B ∓ √(B² − 4AC)) / 2A`.
+    Distinct(f64, f64),
+}
+
+impl Quadratic {
+    /// The discriminant `B² − 4AC`, literally.
+    #[inline]
+    pub fn discriminant(&self) -> f64 {
+        self.b * self.b - 4.0 * self.a * self.c
+    }
+
+    /// The roots, classified as the seed does.
+    ///
+    /// ```
+    /// use spheresweep::reference::{Quadratic, Roots};
+    /// // t² − 3t + 2 = (t − 1)(t − 2)
+    /// let q = Quadratic { a: 1.0, b: -3.0, c: 2.0 };
+    /// assert_eq!(q.roots(), Roots::Distinct(1.0, 2.0));
+    /// ```
+    pub fn roots(&self) -> Roots {
+        let Quadratic { a, b, .. } = *self;
+        if a == 0.0 {
+            return Roots::NoMotion;
+        }
+        let disc = self.discriminant();
+        if disc < 0.0 {
+            Roots::Complex
+        } else if disc == 0.0 {
+            Roots::Double(-b / (2.0 * a))
+        } else {
+            let sqrt = disc.sqrt();
+            Roots::Distinct((-b - sqrt) / (2.0 * a), (-b + sqrt) / (2.0 * a))
+        }
+    }
+}
+
+impl Roots {
+    /// All the roots, smallest first.
+    pub fn all(&self) -> impl Iterator<Item = f64> {
+        let (first, second) = match *self {
+            Roots::NoMotion | Roots::Complex => (None, None),
+            Roots::Double(t) => (Some(t), None),
+            Roots::Distinct(t1, t2) => (Some(t1), Some(t2)),
+        };
+        first.into_iter().chain(second)
+    }
+    /// The roots that lie ahead (`t > 0`): physical contacts.
+    pub fn ahead(&self) -> impl Iterator<Item = f64> {
+        self.all().filter(|&t| t > 0.0)
+    }
+    /// The roots that lie behind (`t < 0`): contacts that would have happened in the past,
+    /// discarded by the seed.
+    pub fn behind(&self) -> impl Iterator<Item = f64> {
+        self.all().filter(|&t| t < 0.0)
+    }
+}
+
+/// Which side of the contact surface the moving sphere starts on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The bodies approach from outside each other (`D = R_A + R_B`, plane, cylinder).
+    Exterior,
+    /// A sphere inside a container, reaching its wall from within (`D = R_container − R`).
+    Interior,
+}
+
+impl Side {
+    /// Already touching or past the contact distance, and moving deeper, at `t = 0`.
+    #[inline]
+    pub fn moving_deeper(self, q: &Quadratic) -> bool {
+        match self {
+            Side::Exterior => q.c <= 0.0 && q.b < 0.0,
+            Side::Interior => q.c >= 0.0 && q.b > 0.0,
+        }
+    }
+}
+
+/// The earliest admissible time of impact in `[0, t_max]`, or `None`, by the policy above.
+///
+/// ```
+/// use spheresweep::reference::{earliest_contact, Quadratic, Side};
+/// let q = Quadratic { a: 1.0, b: -3.0, c: 2.0 }; // roots 1 and 2
+/// assert_eq!(earliest_contact(&q, Side::Exterior, 10.0), Some(1.0));
+/// assert_eq!(earliest_contact(&q, Side::Interior, 10.0), Some(2.0));
+/// assert_eq!(earliest_contact(&q, Side::Exterior, 0.5), None);
+/// ```
+pub fn earliest_contact(q: &Quadratic, side: Side, t_max: f64) -> Option<f64> {
+    let arrival = match q.roots() {
+        Roots::NoMotion => return None,
+        Roots::Complex => None,
+        Roots::Double(t) => Some(t),
+        Roots::Distinct(t1, t2) => Some(match side {
+            Side::Exterior => t1,
+            Side::Interior => t2,
+        }),
+    };
+    let t = match arrival {
+        Some(t) if t > 0.0 => t,
+        _ if side.moving_deeper(q) => 0.0,
+        _ => return None,
+    };
+    (t <= t_max).then_some(t)
+}

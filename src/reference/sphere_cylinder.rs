@@ -1,0 +1,70 @@
+//! Sphere A – infinite static cylinder C, A outside (seed, third section).
+//!
+//! `ŝ` unit axis, `r0 = ŝ × (r_A0 − r_C1) × ŝ`, `v = ŝ × v_A × ŝ` (the parts perpendicular to
+//! the axis), `D = R_A + R_C`, `A = v·v`, `B = 2 r0·v`, `C = r0·r0 − D²`. Motion along the
+//! axis (`v = 0`) is no contact.
+
+use glam::DVec3;
+
+use super::{Contact, Quadratic, Side, earliest_contact, unit_or};
+use crate::{Cylinder, Sphere};
+
+/// `ŝ × x × ŝ = (ŝ × x) × ŝ`, the part of `x` perpendicular to the unit axis `ŝ`.
+#[inline]
+fn perpendicular(s: DVec3, x: DVec3) -> DVec3 {
+    s.cross(x).cross(s)
+}
+
+/// The stored f32 axis normalised again in f64: `‖ŝ‖ = 1` to f64 rounding, where the f32
+/// axis is off by up to one f32 rounding and `ŝ × x × ŝ` would scale by `‖ŝ‖²`.
+#[inline]
+fn unit_axis(cyl: &Cylinder) -> DVec3 {
+    cyl.axis().as_dvec3().normalize()
+}
+
+/// The seed's coefficients for a sphere and a cylinder, in f64.
+pub fn quadratic(sa: &Sphere, cyl: &Cylinder) -> Quadratic {
+    let s = unit_axis(cyl);
+    let r0 = perpendicular(s, sa.centre().as_dvec3() - cyl.point().as_dvec3());
+    let v = perpendicular(s, sa.velocity().as_dvec3());
+    let d = f64::from(sa.radius()) + f64::from(cyl.radius());
+    Quadratic {
+        a: v.dot(v),
+        b: 2.0 * r0.dot(v),
+        c: r0.dot(r0) - d * d,
+    }
+}
+
+/// The earliest time in `[0, t_max]` at which the sphere touches the cylinder.
+pub fn time_of_impact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<f64> {
+    earliest_contact(&quadratic(sa, cyl), Side::Exterior, t_max)
+}
+
+/// The first contact; the normal is `D⃗/‖D⃗‖` with `D⃗ = ŝ × (r_A − r_C1) × ŝ`.
+///
+/// ```
+/// use spheresweep::{Cylinder, Sphere, reference::sphere_cylinder};
+/// // Pillar along z of radius 1; sphere of radius 1 at x = 6 moving at −x speed 1: t = 4.
+/// let pillar = Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?;
+/// let s = Sphere::new([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0, 1.0)?;
+/// let c = sphere_cylinder::first_contact(&s, &pillar, 10.0).unwrap();
+/// assert_eq!((c.time, c.point.x, c.normal.x), (4.0, 1.0, 1.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+pub fn first_contact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<Contact> {
+    let t = time_of_impact(sa, cyl, t_max)?;
+    let s = unit_axis(cyl);
+    let v_a = sa.velocity().as_dvec3();
+    let r_a = sa.centre().as_dvec3() + v_a * t;
+    let d_vec = perpendicular(s, r_a - cyl.point().as_dvec3());
+    // A point sphere on a zero-radius cylinder meets the axis: the limit direction just
+    // before contact is −v_⊥.
+    let normal = unit_or(d_vec, -perpendicular(s, v_a));
+    Some(Contact {
+        time: t,
+        centre: r_a,
+        other: r_a - d_vec,
+        point: r_a - normal * f64::from(sa.radius()),
+        normal,
+    })
+}

@@ -1,0 +1,218 @@
+//! The four shapes of the seed, each built only through a validating constructor.
+//!
+//! Inputs are `f32` (the precision of the store and of the 8-wide kernels); the scalar
+//! reference widens them to `f64`. Directions (plane normal, cylinder axis) are normalised in
+//! `f64` and rounded once to `f32`.
+
+use glam::{DVec3, Vec3};
+
+use crate::error::{Problem, ShapeError, ShapeKind};
+
+/// A sphere moving at constant velocity: `r(t) = centre + velocity · t`.
+///
+/// ```
+/// use spheresweep::Sphere;
+/// let s = Sphere::new([0.0, 1.0, 0.0], [1.0, 0.0, 0.0], 0.5, 2.0)?;
+/// assert_eq!(s.centre_at(2.0), glam::Vec3::new(2.0, 1.0, 0.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    centre: Vec3,
+    velocity: Vec3,
+    radius: f32,
+    mass: f32,
+}
+
+/// A static infinite plane through `point` with unit `normal` (two-sided: a sphere may hit
+/// it from either side).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    point: Vec3,
+    normal: Vec3,
+}
+
+/// A static infinite cylinder: the axis through `point` along the unit `axis`, and a radius.
+/// Spheres collide with it from outside.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cylinder {
+    point: Vec3,
+    axis: Vec3,
+    radius: f32,
+}
+
+/// A static spherical vessel; the spheres it holds move inside it and touch its wall from
+/// within (contact distance `D = R_container − R_sphere`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Container {
+    centre: Vec3,
+    radius: f32,
+}
+
+fn finite_vec(kind: ShapeKind, field: &'static str, v: [f32; 3]) -> Result<Vec3, ShapeError> {
+    let v = Vec3::from_array(v);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(ShapeError::new(kind, field, Problem::NotFinite))
+    }
+}
+
+fn radius(kind: ShapeKind, r: f32) -> Result<f32, ShapeError> {
+    if !r.is_finite() {
+        Err(ShapeError::new(kind, "radius", Problem::NotFinite))
+    } else if r < 0.0 {
+        Err(ShapeError::new(kind, "radius", Problem::Negative))
+    } else {
+        Ok(r)
+    }
+}
+
+/// Normalises in f64 (no overflow or underflow for any finite f32 input), rounds once to f32.
+fn unit(kind: ShapeKind, field: &'static str, d: DVec3) -> Result<Vec3, ShapeError> {
+    let len = d.length();
+    if len == 0.0 {
+        return Err(ShapeError::new(kind, field, Problem::ZeroLength));
+    }
+    Ok((d / len).as_vec3())
+}
+
+impl Sphere {
+    /// A sphere with the given centre at `t = 0`, constant velocity, radius (`0` is a point
+    /// sphere) and mass.
+    ///
+    /// # Errors
+    /// A [`ShapeError`] naming the field if any value is NaN or infinite, the radius is
+    /// negative or the mass is not above zero.
+    pub fn new(
+        centre: [f32; 3],
+        velocity: [f32; 3],
+        radius: f32,
+        mass: f32,
+    ) -> Result<Self, ShapeError> {
+        const K: ShapeKind = ShapeKind::Sphere;
+        let centre = finite_vec(K, "centre", centre)?;
+        let velocity = finite_vec(K, "velocity", velocity)?;
+        let radius = self::radius(K, radius)?;
+        if !mass.is_finite() {
+            return Err(ShapeError::new(K, "mass", Problem::NotFinite));
+        }
+        if mass <= 0.0 {
+            return Err(ShapeError::new(K, "mass", Problem::NotPositive));
+        }
+        Ok(Self {
+            centre,
+            velocity,
+            radius,
+            mass,
+        })
+    }
+
+    /// Centre at `t = 0`.
+    #[inline]
+    pub fn centre(&self) -> Vec3 {
+        self.centre
+    }
+    /// Constant velocity.
+    #[inline]
+    pub fn velocity(&self) -> Vec3 {
+        self.velocity
+    }
+    /// Radius (zero for a point sphere).
+    #[inline]
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+    /// Mass (finite, above zero).
+    #[inline]
+    pub fn mass(&self) -> f32 {
+        self.mass
+    }
+    /// Centre at time `t`, `centre + velocity · t`, in f32.
+    #[inline]
+    pub fn centre_at(&self, t: f32) -> Vec3 {
+        self.centre + self.velocity * t
+    }
+}
+
+impl Plane {
+    /// The plane through `point` with normal `normal` (any non-zero length; normalised here).
+    ///
+    /// # Errors
+    /// A [`ShapeError`] if a value is NaN or infinite or the normal is zero.
+    pub fn new(point: [f32; 3], normal: [f32; 3]) -> Result<Self, ShapeError> {
+        const K: ShapeKind = ShapeKind::Plane;
+        let point = finite_vec(K, "point", point)?;
+        let normal = unit(K, "normal", finite_vec(K, "normal", normal)?.as_dvec3())?;
+        Ok(Self { point, normal })
+    }
+    /// A point on the plane (`r_P0`).
+    #[inline]
+    pub fn point(&self) -> Vec3 {
+        self.point
+    }
+    /// The unit normal (`n̂_P`).
+    #[inline]
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+}
+
+impl Cylinder {
+    /// The infinite cylinder whose axis passes through `p1` and `p2` (`r_C1`, `r_C2`).
+    ///
+    /// # Errors
+    /// A [`ShapeError`] if a value is NaN or infinite, the radius is negative, or
+    /// `p1 == p2` (field `"axis"`).
+    pub fn new(p1: [f32; 3], p2: [f32; 3], radius: f32) -> Result<Self, ShapeError> {
+        const K: ShapeKind = ShapeKind::Cylinder;
+        let p1 = finite_vec(K, "p1", p1)?;
+        let p2 = finite_vec(K, "p2", p2)?;
+        let radius = self::radius(K, radius)?;
+        let axis = unit(K, "axis", p2.as_dvec3() - p1.as_dvec3())?;
+        Ok(Self {
+            point: p1,
+            axis,
+            radius,
+        })
+    }
+    /// A point on the axis (`r_C1`).
+    #[inline]
+    pub fn point(&self) -> Vec3 {
+        self.point
+    }
+    /// The unit axis direction (`ŝ`).
+    #[inline]
+    pub fn axis(&self) -> Vec3 {
+        self.axis
+    }
+    /// Radius (`R_C`).
+    #[inline]
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+}
+
+impl Container {
+    /// A static spherical vessel with the given centre and inner radius.
+    ///
+    /// # Errors
+    /// A [`ShapeError`] if a value is NaN or infinite or the radius is negative.
+    pub fn new(centre: [f32; 3], radius: f32) -> Result<Self, ShapeError> {
+        const K: ShapeKind = ShapeKind::Container;
+        Ok(Self {
+            centre: finite_vec(K, "centre", centre)?,
+            radius: self::radius(K, radius)?,
+        })
+    }
+    /// Centre of the vessel.
+    #[inline]
+    pub fn centre(&self) -> Vec3 {
+        self.centre
+    }
+    /// Inner radius of the vessel.
+    #[inline]
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+}
