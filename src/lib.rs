@@ -13,10 +13,15 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod accuracy;
 pub mod error;
+pub mod narrow;
 pub mod reference;
 pub mod scene;
 pub mod shape;
+pub mod store;
 
+pub use accuracy::Accuracy;
 pub use error::{Problem, ShapeError, ShapeKind};
 pub use shape::{Container, Cylinder, Plane, Sphere};
+pub use store::{SphereStore, StoreError};

@@ -47,14 +47,19 @@ pub fn time_of_impact(s: &Sphere, k: &Container, t_max: f64) -> Option<f64> {
 /// ```
 pub fn first_contact(s: &Sphere, k: &Container, t_max: f64) -> Option<Contact> {
     let t = time_of_impact(s, k, t_max)?;
+    Some(contact_at(s, k, t))
+}
+
+/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
+pub fn contact_at(s: &Sphere, k: &Container, t: f64) -> Contact {
     let r = s.centre().as_dvec3() + s.velocity().as_dvec3() * t;
     let centre = k.centre().as_dvec3();
     let outward = unit_or(r - centre, s.velocity().as_dvec3());
-    Some(Contact {
+    Contact {
         time: t,
         centre: r,
         other: centre,
         point: r + outward * f64::from(s.radius()),
         normal: -outward,
-    })
+    }
 }

@@ -53,6 +53,11 @@ pub fn time_of_impact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<f64> {
 /// ```
 pub fn first_contact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<Contact> {
     let t = time_of_impact(sa, cyl, t_max)?;
+    Some(contact_at(sa, cyl, t))
+}
+
+/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
+pub fn contact_at(sa: &Sphere, cyl: &Cylinder, t: f64) -> Contact {
     let s = unit_axis(cyl);
     let v_a = sa.velocity().as_dvec3();
     let r_a = sa.centre().as_dvec3() + v_a * t;
@@ -60,11 +65,11 @@ pub fn first_contact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<Contact>
     // A point sphere on a zero-radius cylinder meets the axis: the limit direction just
     // before contact is −v_⊥.
     let normal = unit_or(d_vec, -perpendicular(s, v_a));
-    Some(Contact {
+    Contact {
         time: t,
         centre: r_a,
         other: r_a - d_vec,
         point: r_a - normal * f64::from(sa.radius()),
         normal,
-    })
+    }
 }

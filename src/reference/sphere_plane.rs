@@ -40,6 +40,11 @@ pub fn time_of_impact(s: &Sphere, p: &Plane, t_max: f64) -> Option<f64> {
 /// ```
 pub fn first_contact(s: &Sphere, p: &Plane, t_max: f64) -> Option<Contact> {
     let t = time_of_impact(s, p, t_max)?;
+    Some(contact_at(s, p, t))
+}
+
+/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
+pub fn contact_at(s: &Sphere, p: &Plane, t: f64) -> Contact {
     let n_p = p.normal().as_dvec3();
     let v_a = s.velocity().as_dvec3();
     let r_a = s.centre().as_dvec3() + v_a * t;
@@ -54,11 +59,11 @@ pub fn first_contact(s: &Sphere, p: &Plane, t_max: f64) -> Option<Contact> {
         -v_a.dot(n_p).signum()
     };
     let normal = n_p * sign;
-    Some(Contact {
+    Contact {
         time: t,
         centre: r_a,
         other: r_a - n_p * side,
         point: r_a - normal * f64::from(s.radius()),
         normal,
-    })
+    }
 }

@@ -38,6 +38,11 @@ pub fn time_of_impact(sa: &Sphere, sb: &Sphere, t_max: f64) -> Option<f64> {
 /// ```
 pub fn first_contact(sa: &Sphere, sb: &Sphere, t_max: f64) -> Option<Contact> {
     let t = time_of_impact(sa, sb, t_max)?;
+    Some(contact_at(sa, sb, t))
+}
+
+/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
+pub fn contact_at(sa: &Sphere, sb: &Sphere, t: f64) -> Contact {
     let r_a = sa.centre().as_dvec3() + sa.velocity().as_dvec3() * t;
     let r_b = sb.centre().as_dvec3() + sb.velocity().as_dvec3() * t;
     // n̂_B = (r_A − r_B)/‖r_A − r_B‖; for two point spheres meeting head-on, the limit
@@ -46,11 +51,11 @@ pub fn first_contact(sa: &Sphere, sb: &Sphere, t_max: f64) -> Option<Contact> {
         r_a - r_b,
         sb.velocity().as_dvec3() - sa.velocity().as_dvec3(),
     );
-    Some(Contact {
+    Contact {
         time: t,
         centre: r_a,
         other: r_b,
         point: r_a - n_b * f64::from(sa.radius()),
         normal: n_b,
-    })
+    }
 }
