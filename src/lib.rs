@@ -16,6 +16,7 @@
 pub mod accuracy;
 pub mod error;
 pub mod narrow;
+pub mod query;
 pub mod reference;
 pub mod scene;
 pub mod shape;

@@ -2,10 +2,10 @@
 //! of eight with NaN lanes, which no kernel can report as a hit (every hit test is an ordered
 //! comparison, false for NaN).
 
+use crate::Sphere;
 use crate::error::ShapeError;
 use crate::narrow::lanes::Lanes;
 use crate::narrow::sphere_sphere::SphereLanes;
-use crate::Sphere;
 
 /// The lane count every column is padded to (an `f32x8`).
 pub const PAD: usize = 8;

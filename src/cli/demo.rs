@@ -3,7 +3,10 @@
 use std::error::Error;
 use std::io::Write;
 
-use spheresweep::reference::scene::{Body, first_contacts};
+use spheresweep::Accuracy;
+use spheresweep::narrow::Query;
+use spheresweep::query::first_contacts;
+use spheresweep::reference::scene::Body;
 use spheresweep::scene::{Scene, demo};
 
 /// Options of `spheresweep demo`.
@@ -11,37 +14,38 @@ use spheresweep::scene::{Scene, demo};
 pub struct Args {
     /// End of the time window [0, t_max].
     #[arg(long, default_value_t = 10.0)]
-    t_max: f64,
+    t_max: f32,
+    /// Accuracy mode of the kernels: textbook, stable or double.
+    #[arg(long, default_value_t = Accuracy::Stable)]
+    accuracy: Accuracy,
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
-    if args.t_max.is_nan() || args.t_max < 0.0 {
-        return Err(format!("--t-max must be zero or more, got {}", args.t_max).into());
-    }
+    let query = Query::new(args.t_max, args.accuracy)?;
     let scene = demo();
     let mut out = std::io::stdout().lock();
     writeln!(out, "{}", describe(&scene))?;
     writeln!(
         out,
-        "First contacts in [0, {}] (scalar f64 reference):\n",
-        args.t_max
+        "First contacts in [0, {}] ({} mode, 8-wide kernels; point and normal from the f64 reference):\n",
+        args.t_max, args.accuracy
     )?;
     writeln!(
         out,
         "{:>6}  {:<13} {:>9}  {:>26}  {:>23}",
         "sphere", "hits", "time", "contact point", "normal on sphere"
     )?;
-    for (i, contact) in first_contacts(&scene, args.t_max).iter().enumerate() {
+    for (i, contact) in first_contacts(&scene, query, true)?.iter().enumerate() {
         match contact {
             None => writeln!(out, "{i:>6}  {:<13} {:>9}", "nothing", "-")?,
-            Some((body, c)) => {
-                let p = c.point;
-                let n = c.normal;
+            Some(hit) => {
+                let c = hit.geometry.expect("geometry was asked for");
+                let (p, n) = (c.point, c.normal);
                 writeln!(
                     out,
                     "{i:>6}  {:<13} {:>9.4}  ({:>7.3}, {:>7.3}, {:>7.3})  ({:>6.3}, {:>6.3}, {:>6.3})",
-                    name(*body),
-                    c.time,
+                    name(hit.body),
+                    hit.time,
                     p.x,
                     p.y,
                     p.z,

@@ -249,14 +249,15 @@ pub fn first_contact_against(
 }
 
 fn earliest(times: &[f32]) -> Option<FirstContact> {
-    let (other, &time) = times
-        .iter()
-        .enumerate()
-        .fold(None, |best: Option<(usize, &f32)>, (j, t)| match best {
-            Some((_, b)) if b <= t => best,
-            _ if t.is_finite() => Some((j, t)),
-            _ => best,
-        })?;
+    let (other, &time) =
+        times
+            .iter()
+            .enumerate()
+            .fold(None, |best: Option<(usize, &f32)>, (j, t)| match best {
+                Some((_, b)) if b <= t => best,
+                _ if t.is_finite() => Some((j, t)),
+                _ => best,
+            })?;
     Some(FirstContact {
         time,
         other: other as u32,
@@ -342,7 +343,10 @@ pub fn first_contacts<K: StaticShape>(
     let mut times = vec![f32::INFINITY; spheres.len()];
     let mut which = vec![0.0f32; spheres.len()];
     if !shapes.is_empty() {
-        with_mode!(query.accuracy, run_static::<K>(spheres, shapes, query.t_max, &mut times, &mut which));
+        with_mode!(
+            query.accuracy,
+            run_static::<K>(spheres, shapes, query.t_max, &mut times, &mut which)
+        );
     }
     Ok(times
         .into_iter()

@@ -145,7 +145,11 @@ pub fn cross<L: Lanes>(a: V3<L>, b: V3<L>) -> V3<L> {
 #[inline(always)]
 pub fn reject_fused<L: Lanes>(x: V3<L>, s: V3<L>) -> V3<L> {
     let k = -dot_fused(x, s);
-    [k.mul_add(s[0], x[0]), k.mul_add(s[1], x[1]), k.mul_add(s[2], x[2])]
+    [
+        k.mul_add(s[0], x[0]),
+        k.mul_add(s[1], x[1]),
+        k.mul_add(s[2], x[2]),
+    ]
 }
 
 /// `a × b` with one fused multiply-add per component.

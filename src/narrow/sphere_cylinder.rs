@@ -54,7 +54,11 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
             d,
         }
     } else {
-        let anchor = if L::EXACT_DIFFERENCES { cyl.point } else { cyl.foot };
+        let anchor = if L::EXACT_DIFFERENCES {
+            cyl.point
+        } else {
+            cyl.foot
+        };
         Relative3 {
             r0: reject_fused(sub(a.c, anchor), s),
             v: reject_fused(a.v, s),

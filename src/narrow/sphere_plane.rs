@@ -34,11 +34,7 @@ impl<L: Lanes> PlaneLanes<L> {
 
 /// Earliest contact time per lane with the plane (either side), `+∞` for none.
 #[inline(always)]
-pub fn time_of_impact<L: Lanes, S: Solver>(
-    s: &SphereLanes<L>,
-    p: &PlaneLanes<L>,
-    t_max: L,
-) -> L {
+pub fn time_of_impact<L: Lanes, S: Solver>(s: &SphereLanes<L>, p: &PlaneLanes<L>, t_max: L) -> L {
     let rel = if S::LITERAL {
         Relative1 {
             r0: dot(sub(s.c, p.point), p.n),
@@ -46,7 +42,11 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
             d: s.r,
         }
     } else {
-        let anchor = if L::EXACT_DIFFERENCES { p.point } else { p.foot };
+        let anchor = if L::EXACT_DIFFERENCES {
+            p.point
+        } else {
+            p.foot
+        };
         Relative1 {
             r0: dot_fused(sub(s.c, anchor), p.n),
             v: dot_fused(s.v, p.n),

@@ -32,11 +32,7 @@ impl<L: Lanes> SphereLanes<L> {
 
 /// Earliest exterior contact time per lane in `[0, t_max]`, `+∞` for none.
 #[inline(always)]
-pub fn time_of_impact<L: Lanes, S: Solver>(
-    a: &SphereLanes<L>,
-    b: &SphereLanes<L>,
-    t_max: L,
-) -> L {
+pub fn time_of_impact<L: Lanes, S: Solver>(a: &SphereLanes<L>, b: &SphereLanes<L>, t_max: L) -> L {
     let rel = Relative3 {
         r0: sub(b.c, a.c),
         v: sub(b.v, a.v),

@@ -1,0 +1,216 @@
+//! The 8-wide kernels against the f64 reference, every pair kind × accuracy mode: hit/miss
+//! agree outside the bands of ill-conditioning, and times agree within the per-case bound of
+//! the rounding-error model (tests/common, docs/derivations/accuracy.md).
+
+mod common;
+
+use common::{Other, Pair, model};
+use proptest::prelude::*;
+use spheresweep::{Accuracy, Container, Cylinder, Plane, Sphere};
+
+fn coord() -> impl Strategy<Value = f32> {
+    -100.0f32..100.0
+}
+fn vec3() -> impl Strategy<Value = [f32; 3]> {
+    [coord(), coord(), coord()]
+}
+fn velocity() -> impl Strategy<Value = [f32; 3]> {
+    prop_oneof![
+        4 => [-10.0f32..10.0, -10.0f32..10.0, -10.0f32..10.0],
+        1 => [-1e-3f32..1e-3, -1e-3f32..1e-3, -1e-3f32..1e-3],
+    ]
+}
+fn radius() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => 0.01f32..10.0, 1 => Just(0.0f32)]
+}
+/// A common offset of the whole scene: none, or up to 1e5 away from the origin.
+fn offset() -> impl Strategy<Value = [f32; 3]> {
+    prop_oneof![2 => Just([0.0f32; 3]), 1 => [-1e5f32..1e5, -1e5f32..1e5, -1e5f32..1e5]]
+}
+fn t_max() -> impl Strategy<Value = f32> {
+    prop::sample::select(vec![1.0f32, 10.0, 100.0, f32::INFINITY])
+}
+fn shift(p: [f32; 3], o: [f32; 3]) -> [f32; 3] {
+    [p[0] + o[0], p[1] + o[1], p[2] + o[2]]
+}
+fn sphere_at(o: [f32; 3]) -> impl Strategy<Value = Sphere> {
+    (vec3(), velocity(), radius())
+        .prop_map(move |(c, v, r)| Sphere::new(shift(c, o), v, r, 1.0).unwrap())
+}
+
+fn pairs() -> impl Strategy<Value = Pair> {
+    offset().prop_flat_map(|o| {
+        let other = prop_oneof![
+            sphere_at(o).prop_map(Other::Sphere),
+            (vec3(), vec3())
+                .prop_filter_map("zero normal", move |(p, n)| Plane::new(shift(p, o), n).ok())
+                .prop_map(Other::Plane),
+            (vec3(), vec3(), radius())
+                .prop_filter_map("degenerate axis", move |(a, b, r)| {
+                    Cylinder::new(shift(a, o), shift(b, o), r).ok()
+                })
+                .prop_map(Other::Cylinder),
+            (
+                [-10.0f32..10.0, -10.0f32..10.0, -10.0f32..10.0],
+                20.0f32..300.0
+            )
+                .prop_map(move |(c, r)| Other::Container(Container::new(shift(c, o), r).unwrap())),
+        ];
+        (sphere_at(o), other).prop_map(|(sphere, other)| Pair { sphere, other })
+    })
+}
+
+fn check(pair: &Pair, mode: Accuracy, t_max: f32) -> Result<bool, TestCaseError> {
+    let reference = pair.reference(f64::from(t_max));
+    let kernel = pair.kernel(mode, t_max);
+    let m = model(pair, mode, f64::from(t_max));
+    match (reference, kernel) {
+        (Some(r), Some(k)) => {
+            let err = (f64::from(k) - r).abs();
+            prop_assert!(
+                err <= m.dt,
+                "{mode}: t = {k} vs reference {r}: error {err:e} > bound {:e}\n{pair:?}",
+                m.dt
+            );
+            prop_assert!(k <= t_max && k >= 0.0);
+        }
+        (None, None) => {}
+        (r, k) => prop_assert!(
+            m.ambiguous,
+            "{mode}: hit/miss differs outside the band: reference {r:?}, kernel {k:?}, \
+             q = {:e} ± {:e}\n{pair:?}",
+            m.q,
+            m.dq
+        ),
+    }
+    Ok(m.ambiguous)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(6000))]
+
+    #[test]
+    fn kernels_agree_with_the_reference(pair in pairs(), t_max in t_max()) {
+        for mode in Accuracy::ALL {
+            check(&pair, mode, t_max)?;
+        }
+    }
+}
+
+/// Hand-derived cases answered exactly by every mode (all values are exact in binary).
+#[test]
+fn exact_cases_in_every_mode() {
+    let ball = |c: [f32; 3], v: [f32; 3], r: f32| Sphere::new(c, v, r, 1.0).unwrap();
+    let cases = [
+        // sphere–sphere, t = 4 (reference_cases.rs)
+        (
+            ball([0.0; 3], [0.0; 3], 1.0),
+            Other::Sphere(ball([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0)),
+            Some(4.0),
+        ),
+        // overlapping, approaching: 0; separating: none
+        (
+            ball([0.0; 3], [0.0; 3], 1.0),
+            Other::Sphere(ball([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0)),
+            Some(0.0),
+        ),
+        (
+            ball([0.0; 3], [0.0; 3], 1.0),
+            Other::Sphere(ball([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0)),
+            None,
+        ),
+        // no relative motion
+        (
+            ball([0.0; 3], [1.0; 3], 1.0),
+            Other::Sphere(ball([0.5, 0.0, 0.0], [1.0; 3], 1.0)),
+            None,
+        ),
+        // plane from the front at 2, parallel motion never
+        (
+            ball([1.0, 2.0, 5.0], [0.0, 0.0, -2.0], 1.0),
+            Other::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
+            Some(2.0),
+        ),
+        (
+            ball([0.0, 0.0, 5.0], [3.0, -1.0, 0.0], 1.0),
+            Other::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
+            None,
+        ),
+        // point sphere on a plane: (1 − 5)/(−2) = 2
+        (
+            ball([0.0, 0.0, 5.0], [1.0, 0.0, -2.0], 0.0),
+            Other::Plane(Plane::new([7.0, 7.0, 1.0], [0.0, 0.0, 1.0]).unwrap()),
+            Some(2.0),
+        ),
+        // cylinder at 4; along the axis never
+        (
+            ball([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0),
+            Other::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
+            Some(4.0),
+        ),
+        (
+            ball([1.5, 0.0, 0.0], [0.0, 0.0, 3.0], 1.0),
+            Other::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
+            None,
+        ),
+        // container exits: 2 and 7; at the wall moving out: 0; too big: 0
+        (
+            ball([0.0; 3], [0.0, 2.0, 0.0], 1.0),
+            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Some(2.0),
+        ),
+        (
+            ball([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0),
+            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Some(7.0),
+        ),
+        (
+            ball([4.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0),
+            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Some(0.0),
+        ),
+        (
+            ball([0.0; 3], [0.0; 3], 6.0),
+            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Some(0.0),
+        ),
+    ];
+    for (sphere, other, expected) in cases {
+        let pair = Pair { sphere, other };
+        for mode in Accuracy::ALL {
+            assert_eq!(pair.kernel(mode, 100.0), expected, "{mode} {pair:?}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// A point sphere approaching a plane grazes it exactly (B² − 4AC = 0 in exact arithmetic,
+    /// which the literal formula may round either way). `Stable` and `Double` compute
+    /// `q = v² D² = 0` with no cancellation: always a hit, at `t = (r_P0 − r_A0)·n̂ / (v_A·n̂)`
+    /// within `δt/t ≤ δR0/|R0| + δv/|v·n̂| + 3u` (δR0 = K u X, δv = K u ‖v‖).
+    #[test]
+    fn point_sphere_on_a_plane_always_hits(c in vec3(), v in velocity(), p in vec3(), n in vec3()) {
+        let Ok(plane) = Plane::new(p, n) else { return Ok(()) };
+        let nn = plane.normal().as_dvec3();
+        let r0 = (glam::Vec3::from(c).as_dvec3() - plane.point().as_dvec3()).dot(nn);
+        let vn = glam::Vec3::from(v).as_dvec3().dot(nn);
+        prop_assume!(r0 * vn != 0.0);
+        // Head for the plane: flip the velocity if it points away.
+        let (v, vn) = if r0 * vn > 0.0 { (v.map(|x| -x), -vn) } else { (v, vn) };
+        let sphere = Sphere::new(c, v, 0.0, 1.0).unwrap();
+        let pair = Pair { sphere, other: Other::Plane(plane) };
+        let t = -r0 / vn;
+        for mode in [Accuracy::Stable, Accuracy::Double] {
+            let (_, _, _, _, x) = pair.geometry(mode);
+            let u = if mode == Accuracy::Double { common::U64 } else { common::U32 };
+            let bound = t * (common::K * u * (x / r0.abs() + pair.speed() / vn.abs()) + 3.0 * u)
+                + common::U32 * t;
+            let k = pair.kernel(mode, f32::INFINITY);
+            prop_assert!(k.is_some(), "{mode}: point sphere missed the plane");
+            let err = (f64::from(k.unwrap()) - t).abs();
+            prop_assert!(err <= bound, "{mode}: {err:e} > {bound:e}");
+        }
+    }
+}
