@@ -174,19 +174,18 @@ impl SphereStore {
     /// If `i + L::WIDTH > padded_len()` (an internal invariant of the batch drivers).
     #[inline(always)]
     pub fn lanes<L: Lanes>(&self, i: usize) -> SphereLanes<L> {
-        debug_assert!(i + L::WIDTH <= self.padded_len());
+        // One check for all seven columns: re-sliced to the same length `n`, and with
+        // `i + WIDTH ≤ n` asserted, every column access below is provably in bounds.
+        let n = self.padded_len();
+        assert!(
+            i + L::WIDTH <= n,
+            "lane group {i} beyond the padded columns ({n})"
+        );
+        let col = |c: &[f32]| L::load(&c[..n][i..i + L::WIDTH]);
         SphereLanes {
-            c: [
-                L::load(&self.cx[i..]),
-                L::load(&self.cy[i..]),
-                L::load(&self.cz[i..]),
-            ],
-            v: [
-                L::load(&self.vx[i..]),
-                L::load(&self.vy[i..]),
-                L::load(&self.vz[i..]),
-            ],
-            r: L::load(&self.r[i..]),
+            c: [col(&self.cx), col(&self.cy), col(&self.cz)],
+            v: [col(&self.vx), col(&self.vy), col(&self.vz)],
+            r: col(&self.r),
         }
     }
 

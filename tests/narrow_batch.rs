@@ -5,7 +5,7 @@
 use proptest::prelude::*;
 use spheresweep::narrow::{
     BatchError, Query, first_contact_against, first_contacts, first_contacts_with_geometry,
-    one_against_times, pair_times, zip_times,
+    one_against_times, pair_times, static_times, zip_times,
 };
 use spheresweep::{Accuracy, Container, Cylinder, Plane, Sphere, SphereStore};
 
@@ -88,6 +88,10 @@ proptest! {
                     .map(|p| first_contacts(&SphereStore::from_spheres(&[*s]), &[*p], query(mode)).unwrap()[0].map(|f| f.time))
                     .collect();
                 let best = each.iter().flatten().cloned().fold(f32::INFINITY, f32::min);
+                // static_times gives the same bits for one shape as first_contacts.
+                let mut one = vec![0.0; spheres.len()];
+                static_times(&store, &planes[0], query(mode), &mut one).unwrap();
+                prop_assert_eq!(one[i].is_finite().then_some(one[i]), each[0]);
                 match got[i] {
                     None => prop_assert!(best.is_infinite()),
                     Some(f) => {

@@ -3,6 +3,8 @@
 //! in `[0, t_max]`; above [`PARALLEL_MIN`] items the work is split over rayon in fixed chunks,
 //! so results are identical for any thread count.
 
+use std::marker::PhantomData;
+
 use rayon::prelude::*;
 use wide::{f32x8, f64x4};
 
@@ -119,28 +121,96 @@ fn check_output(expected: usize, out: &[f32]) -> Result<(), BatchError> {
     }
 }
 
-/// Fills `out` lane group by lane group: `lane(i)` gives items `i .. i + WIDTH`.
-fn fill<L: Lanes>(out: &mut [f32], lane: impl Fn(usize) -> L + Sync) {
-    let run = |offset: usize, chunk: &mut [f32]| {
-        let mut parts = chunk.chunks_exact_mut(L::WIDTH);
-        let mut i = offset;
-        for part in &mut parts {
-            lane(i).store(part);
-            i += L::WIDTH;
-        }
-        let rest = parts.into_remainder();
-        if !rest.is_empty() {
-            let mut tail = [0.0f32; 8];
-            lane(i).store(&mut tail);
-            rest.copy_from_slice(&tail[..rest.len()]);
-        }
-    };
+/// One lane group of a batch: items `i .. i + WIDTH`. A trait rather than a closure so that
+/// `#[inline(always)]` puts the whole kernel inside the driver's loop.
+trait LaneKernel<L>: Sync {
+    fn lane(&self, i: usize) -> L;
+}
+
+/// Fills `out` lane group by lane group, in parallel chunks above [`PARALLEL_MIN`].
+#[inline(always)]
+fn fill<L: Lanes, K: LaneKernel<L>>(out: &mut [f32], kernel: &K) {
     if out.len() >= PARALLEL_MIN {
         out.par_chunks_mut(CHUNK)
             .enumerate()
-            .for_each(|(k, chunk)| run(k * CHUNK, chunk));
+            .for_each(|(k, chunk)| fill_range(k * CHUNK, chunk, kernel));
     } else {
-        run(0, out);
+        fill_range(0, out, kernel);
+    }
+}
+
+#[inline(always)]
+fn fill_range<L: Lanes, K: LaneKernel<L>>(offset: usize, out: &mut [f32], kernel: &K) {
+    let mut parts = out.chunks_exact_mut(L::WIDTH);
+    let mut i = offset;
+    for part in &mut parts {
+        kernel.lane(i).store(part);
+        i += L::WIDTH;
+    }
+    let rest = parts.into_remainder();
+    if !rest.is_empty() {
+        let mut tail = [0.0f32; 8];
+        kernel.lane(i).store(&mut tail);
+        rest.copy_from_slice(&tail[..rest.len()]);
+    }
+}
+
+struct Zip<'a, L, S> {
+    a: &'a SphereStore,
+    b: &'a SphereStore,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for Zip<'_, L, S> {
+    #[inline(always)]
+    fn lane(&self, i: usize) -> L {
+        sphere_sphere::time_of_impact::<L, S>(&self.a.lanes(i), &self.b.lanes(i), self.t_max)
+    }
+}
+
+struct Listed<'a, L, S> {
+    store: &'a SphereStore,
+    pairs: &'a [[u32; 2]],
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for Listed<'_, L, S> {
+    #[inline(always)]
+    fn lane(&self, i: usize) -> L {
+        let group = &self.pairs[i..self.pairs.len().min(i + L::WIDTH)];
+        let a = self.store.gather::<L>(group.iter().map(|p| p[0] as usize));
+        let b = self.store.gather::<L>(group.iter().map(|p| p[1] as usize));
+        sphere_sphere::time_of_impact::<L, S>(&a, &b, self.t_max)
+    }
+}
+
+struct OneAgainst<'a, L, S> {
+    one: SphereLanes<L>,
+    block: &'a SphereStore,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for OneAgainst<'_, L, S> {
+    #[inline(always)]
+    fn lane(&self, i: usize) -> L {
+        sphere_sphere::time_of_impact::<L, S>(&self.one, &self.block.lanes(i), self.t_max)
+    }
+}
+
+struct AgainstStatic<'a, L: Lanes, S, K: StaticShape> {
+    spheres: &'a SphereStore,
+    shape: K::Lanes<L>,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver + Sync, K: StaticShape> LaneKernel<L> for AgainstStatic<'_, L, S, K> {
+    #[inline(always)]
+    fn lane(&self, i: usize) -> L {
+        K::time_of_impact::<L, S>(&self.spheres.lanes(i), &self.shape, self.t_max)
     }
 }
 
@@ -172,11 +242,17 @@ pub fn zip_times(
         });
     }
     check_output(a.len(), out)?;
-    fn run<L: Lanes, S: Solver>(a: &SphereStore, b: &SphereStore, t_max: f32, out: &mut [f32]) {
-        let t_max = L::splat(t_max);
-        fill(out, |i| {
-            sphere_sphere::time_of_impact::<L, S>(&a.lanes(i), &b.lanes(i), t_max)
-        });
+    fn run<L: Lanes, S: Solver + Sync>(a: &SphereStore, b: &SphereStore, t: f32, out: &mut [f32]) {
+        let (t_max, solver) = (L::splat(t), PhantomData::<S>);
+        fill(
+            out,
+            &Zip {
+                a,
+                b,
+                t_max,
+                solver,
+            },
+        );
     }
     with_mode!(query.accuracy, run(a, b, query.t_max, out));
     Ok(())
@@ -202,14 +278,22 @@ pub fn pair_times(
             });
         }
     }
-    fn run<L: Lanes, S: Solver>(s: &SphereStore, pairs: &[[u32; 2]], t_max: f32, o: &mut [f32]) {
-        let t_max = L::splat(t_max);
-        fill(o, |i| {
-            let group = &pairs[i..pairs.len().min(i + L::WIDTH)];
-            let a = s.gather::<L>(group.iter().map(|p| p[0] as usize));
-            let b = s.gather::<L>(group.iter().map(|p| p[1] as usize));
-            sphere_sphere::time_of_impact::<L, S>(&a, &b, t_max)
-        });
+    fn run<L: Lanes, S: Solver + Sync>(
+        store: &SphereStore,
+        pairs: &[[u32; 2]],
+        t: f32,
+        o: &mut [f32],
+    ) {
+        let (t_max, solver) = (L::splat(t), PhantomData::<S>);
+        fill(
+            o,
+            &Listed {
+                store,
+                pairs,
+                t_max,
+                solver,
+            },
+        );
     }
     with_mode!(query.accuracy, run(store, pairs, query.t_max, out));
     Ok(())
@@ -226,11 +310,17 @@ pub fn one_against_times(
     out: &mut [f32],
 ) -> Result<(), BatchError> {
     check_output(block.len(), out)?;
-    fn run<L: Lanes, S: Solver>(s: &Sphere, block: &SphereStore, t_max: f32, out: &mut [f32]) {
-        let (t_max, one) = (L::splat(t_max), SphereLanes::splat(s));
-        fill(out, |i| {
-            sphere_sphere::time_of_impact::<L, S>(&one, &block.lanes(i), t_max)
-        });
+    fn run<L: Lanes, S: Solver + Sync>(s: &Sphere, block: &SphereStore, t: f32, out: &mut [f32]) {
+        let (t_max, one, solver) = (L::splat(t), SphereLanes::splat(s), PhantomData::<S>);
+        fill(
+            out,
+            &OneAgainst {
+                one,
+                block,
+                t_max,
+                solver,
+            },
+        );
     }
     with_mode!(query.accuracy, run(sphere, block, query.t_max, out));
     Ok(())
@@ -318,6 +408,37 @@ impl StaticShape for Container {
     }
 }
 
+/// Time of impact of every sphere of `spheres` with one static `shape`, into `out`: no
+/// allocation, the layout for a hot loop against one floor, pillar or vessel.
+///
+/// # Errors
+/// If `out` does not have one slot per sphere.
+pub fn static_times<K: StaticShape>(
+    spheres: &SphereStore,
+    shape: &K,
+    query: Query,
+    out: &mut [f32],
+) -> Result<(), BatchError> {
+    check_output(spheres.len(), out)?;
+    fn run<L: Lanes, S: Solver, K: StaticShape>(
+        spheres: &SphereStore,
+        shape: &K,
+        t: f32,
+        out: &mut [f32],
+    ) {
+        let (t_max, shape, solver) = (L::splat(t), shape.splat::<L>(), PhantomData::<S>);
+        let kernel = AgainstStatic::<L, S, K> {
+            spheres,
+            shape,
+            t_max,
+            solver,
+        };
+        fill(out, &kernel);
+    }
+    with_mode!(query.accuracy, run::<K>(spheres, shape, query.t_max, out));
+    Ok(())
+}
+
 /// For every sphere of `spheres`, its earliest contact with any of `shapes` (ties: the
 /// lowest index). A scene without shapes of a kind never runs that kind's kernel.
 ///
@@ -360,7 +481,7 @@ pub fn first_contacts<K: StaticShape>(
         .collect())
 }
 
-fn run_static<L: Lanes, S: Solver, K: StaticShape>(
+fn run_static<L: Lanes, S: Solver + Sync, K: StaticShape>(
     spheres: &SphereStore,
     shapes: &[K],
     t_max: f32,

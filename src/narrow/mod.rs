@@ -18,5 +18,5 @@ pub mod sphere_sphere;
 
 pub use batch::{
     BatchError, FirstContact, Query, StaticShape, first_contact_against, first_contacts,
-    first_contacts_with_geometry, one_against_times, pair_times, zip_times,
+    first_contacts_with_geometry, one_against_times, pair_times, static_times, zip_times,
 };

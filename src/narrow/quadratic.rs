@@ -85,7 +85,7 @@ impl<L: Copy> Clone for Relative3<L> {
 impl<L: Copy> Copy for Relative3<L> {}
 
 /// An accuracy mode's way to find the earliest admissible root.
-pub trait Solver {
+pub trait Solver: Sync {
     /// Whether the mode is the seed's formula literally: anchors as given, `ŝ × x × ŝ`.
     const LITERAL: bool;
     /// The earliest admissible time per lane, `+∞` where there is none.
