@@ -21,6 +21,8 @@ pub mod reference;
 pub mod scene;
 pub mod shape;
 pub mod store;
+#[cfg(feature = "study")]
+pub mod study;
 
 pub use accuracy::Accuracy;
 pub use error::{Problem, ShapeError, ShapeKind};

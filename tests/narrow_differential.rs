@@ -2,6 +2,8 @@
 //! agree outside the bands of ill-conditioning, and times agree within the per-case bound of
 //! the rounding-error model (tests/common, docs/derivations/accuracy.md).
 
+#![cfg(feature = "study")]
+
 mod common;
 
 use common::{Other, Pair, model};
@@ -203,7 +205,7 @@ proptest! {
         let pair = Pair { sphere, other: Other::Plane(plane) };
         let t = -r0 / vn;
         for mode in [Accuracy::Stable, Accuracy::Double] {
-            let (_, _, _, _, x) = pair.geometry(mode);
+            let x = pair.operand_scale(mode);
             let u = if mode == Accuracy::Double { common::U64 } else { common::U32 };
             let bound = t * (common::K * u * (x / r0.abs() + pair.speed() / vn.abs()) + 3.0 * u)
                 + common::U32 * t;

@@ -138,7 +138,7 @@ fn check_container(s: &Sphere, k: &Container) -> Result<(), TestCaseError> {
 fn check_plane(s: &Sphere, p: &Plane) -> Result<(), TestCaseError> {
     let toi = sphere_plane::time_of_impact(s, p, T_MAX);
     let d = f64::from(s.radius());
-    let (n, point) = (p.normal().as_dvec3(), p.point().as_dvec3());
+    let (n, point) = (p.normal().as_dvec3().normalize(), p.point().as_dvec3());
     let sizes = Sizes {
         r0: (s.centre() - p.point()).as_dvec3().length(),
         v: s.velocity().as_dvec3().length(),

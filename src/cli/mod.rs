@@ -1,5 +1,6 @@
 //! Command-line interface: one subcommand a file.
 
+mod accuracy;
 mod demo;
 
 use clap::{Parser, Subcommand};
@@ -17,6 +18,9 @@ struct Cli {
 enum Command {
     /// Query the built-in demo scene for every sphere's first contact and print a table.
     Demo(demo::Args),
+    /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
+    /// throughput from the same run; write docs/accuracy.md and its SVG plot.
+    Accuracy(accuracy::Args),
 }
 
 /// Parses the command line and runs it; errors go to stderr with a non-zero exit code.
@@ -24,6 +28,7 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => demo::run(&args),
+        Command::Accuracy(args) => accuracy::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,6 +8,7 @@ use crate::reference::Side;
 
 /// One plane in every lane, with its point as given and its foot (the plane's point nearest
 /// the origin, computed in f64), which the f32 `Stable` mode uses instead of a far anchor.
+/// The normal is normalised again in the lane precision (exactly unit in f64 lanes).
 #[derive(Debug, Clone, Copy)]
 pub struct PlaneLanes<L> {
     /// `r_P0` as given.
@@ -22,12 +23,12 @@ impl<L: Lanes> PlaneLanes<L> {
     /// The plane in every lane.
     #[inline]
     pub fn splat(p: &Plane) -> Self {
-        let (point, n) = (p.point(), p.normal());
-        let foot = n.as_dvec3() * point.as_dvec3().dot(n.as_dvec3());
+        let (point, n) = (p.point(), p.normal().as_dvec3().normalize());
+        let foot = n * point.as_dvec3().dot(n);
         Self {
             point: [L::splat(point.x), L::splat(point.y), L::splat(point.z)],
             foot: [L::splat64(foot.x), L::splat64(foot.y), L::splat64(foot.z)],
-            n: [L::splat(n.x), L::splat(n.y), L::splat(n.z)],
+            n: [L::splat64(n.x), L::splat64(n.y), L::splat64(n.z)],
         }
     }
 }

@@ -5,12 +5,21 @@
 //! Motion parallel to the plane (`v = 0`) is no contact; a point sphere (`R_A = 0`) has the
 //! single root `t = (r_P0 − r_A0)·n̂_P / (v_A·n̂_P)`.
 
+use glam::DVec3;
+
 use super::{Contact, Quadratic, Side, earliest_contact};
 use crate::{Plane, Sphere};
 
+/// The stored f32 normal normalised again in f64: the f32 normal is unit only to one f32
+/// rounding, which would scale every distance by `‖n̂‖`.
+#[inline]
+fn unit_normal(p: &Plane) -> DVec3 {
+    p.normal().as_dvec3().normalize()
+}
+
 /// The seed's coefficients for a sphere and a plane, in f64.
 pub fn quadratic(s: &Sphere, p: &Plane) -> Quadratic {
-    let n = p.normal().as_dvec3();
+    let n = unit_normal(p);
     let r0 = (s.centre().as_dvec3() - p.point().as_dvec3()).dot(n);
     let v = s.velocity().as_dvec3().dot(n);
     let d = f64::from(s.radius());
@@ -45,7 +54,7 @@ pub fn first_contact(s: &Sphere, p: &Plane, t_max: f64) -> Option<Contact> {
 
 /// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
 pub fn contact_at(s: &Sphere, p: &Plane, t: f64) -> Contact {
-    let n_p = p.normal().as_dvec3();
+    let n_p = unit_normal(p);
     let v_a = s.velocity().as_dvec3();
     let r_a = s.centre().as_dvec3() + v_a * t;
     let side = (r_a - p.point().as_dvec3()).dot(n_p);
