@@ -54,8 +54,9 @@ impl Pair {
 
     /// parry3d's time of impact (`query::cast_shapes`, stopping at penetration), or `None`
     /// when parry has no such shape (the inside of a container). A plane is parry's
-    /// half-space; the infinite cylinder is a finite one ten thousand contact distances long,
-    /// centred on the axis point nearest the sphere.
+    /// half-space; the infinite cylinder is a finite one centred on the axis point nearest the
+    /// sphere, just long enough to cover the travel to the contact (its best case: parry's
+    /// errors grow with the cylinder's length, docs/accuracy.md).
     pub fn parry(&self, t_max: f32) -> Option<Option<f32>> {
         let s = &self.sphere;
         let ball = Ball::new(s.radius());
@@ -87,7 +88,11 @@ impl Pair {
                 let x = s.centre().as_dvec3() - c.point().as_dvec3();
                 let centre = c.point().as_dvec3() + axis * x.dot(axis);
                 let d = f64::from(s.radius() + c.radius()).max(1.0);
-                let long = ParryCylinder::new((1e4 * d) as f32, c.radius());
+                // Just long enough to cover the travel along the axis up to the contact (from the
+                // f64 reference): parry's GJK cast loses accuracy as the cylinder grows.
+                let travel = s.velocity().as_dvec3().dot(axis).abs()
+                    * self.reference(f64::INFINITY).unwrap_or(0.0);
+                let long = ParryCylinder::new((10.0 * d + travel) as f32, c.radius());
                 let rotation = Quat::from_rotation_arc(Vec3::Y, axis.as_vec3());
                 let pose = Pose::from_parts(centre.as_vec3(), rotation);
                 Some(cast(&pose, Vector::ZERO, &long))
