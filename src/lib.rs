@@ -28,3 +28,8 @@ pub use accuracy::Accuracy;
 pub use error::{Problem, ShapeError, ShapeKind};
 pub use shape::{Container, Cylinder, Plane, Sphere};
 pub use store::{SphereStore, StoreError};
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

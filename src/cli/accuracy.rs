@@ -1,6 +1,7 @@
 //! `spheresweep accuracy`: runs the accuracy study and writes the report and its plot.
 
 use std::error::Error;
+use std::io::Write;
 use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -27,6 +28,15 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     if args.cases == 0 {
         return Err("--cases must be at least 1".into());
     }
+    // Open both outputs before the study runs: a bad path fails now, not after the work.
+    let open = |path: &PathBuf| -> Result<std::fs::File, String> {
+        let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(fail)?;
+        }
+        std::fs::File::create(path).map_err(fail)
+    };
+    let (mut md_file, mut svg_file) = (open(&args.out)?, open(&args.svg)?);
     let bar = ProgressBar::new(study::Family::ALL.len() as u64 + 1);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
@@ -41,15 +51,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .file_name()
         .and_then(|n| n.to_str())
         .ok_or_else(|| format!("--svg {} has no file name", args.svg.display()))?;
-    let write = |path: &PathBuf, text: &str| -> Result<(), String> {
-        let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(fail)?;
-        }
-        std::fs::write(path, text).map_err(fail)
+    let write = |file: &mut std::fs::File, path: &PathBuf, text: &str| {
+        file.write_all(text.as_bytes())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
-    write(&args.out, &report.markdown(svg_name))?;
-    write(&args.svg, &report.svg()?)?;
+    write(&mut md_file, &args.out, &report.markdown(svg_name))?;
+    write(&mut svg_file, &args.svg, &report.svg()?)?;
     println!(
         "{:<9} {:>12} {:>26}",
         "path", "M pairs/s", "worst p99 geometric error"

@@ -16,6 +16,11 @@ pub trait Relative<L: Lanes> {
     fn textbook(&self) -> (L, L, L);
     /// `(A, b, C, q)` with `b = B/2` and `q = b² − AC` computed without cancellation.
     fn stable(&self) -> (L, L, L, L);
+    /// `√q` (NaN where `q < 0`).
+    #[inline(always)]
+    fn sqrt_q(&self, q: L) -> L {
+        q.sqrt()
+    }
 }
 
 /// Relative motion in 3-D: `r0`, `v` and the contact distance `D`.
@@ -74,6 +79,12 @@ impl<L: Lanes> Relative<L> for Relative1<L> {
         // b² − AC = R0²v² − v²(R0² − D²) = v² D² exactly: never negative.
         (a, r0 * v, c, a * (d * d))
     }
+
+    /// `√(v² D²) = |v| D`: no square root, one rounding.
+    #[inline(always)]
+    fn sqrt_q(&self, _q: L) -> L {
+        self.v.abs() * self.d
+    }
 }
 
 /// `Copy` for the lane structs (derive would require `L: Copy` bounds anyway).
@@ -129,7 +140,7 @@ impl Solver for Stable {
     fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L {
         let (a, b, c, q) = rel.stable();
         let zero = L::splat(0.0);
-        let sqrt = q.sqrt();
+        let sqrt = rel.sqrt_q(q);
         let moving = a.gt(zero);
         let (t, hit) = match side {
             Side::Exterior => {

@@ -3,12 +3,12 @@
 use super::Scene;
 use crate::{Container, Cylinder, Plane, Sphere};
 
-/// A small scene with every pair kind: eight spheres in a vessel of radius 10, a floor at
+/// A small scene with every pair kind: nine spheres in a vessel of radius 10, a floor at
 /// `z = −4` and a pillar of radius 1 along `z` through `(3, 0)`.
 ///
 /// ```
 /// let scene = spheresweep::scene::demo();
-/// assert_eq!((scene.spheres.len(), scene.planes.len()), (8, 1));
+/// assert_eq!((scene.spheres.len(), scene.planes.len()), (9, 1));
 /// ```
 pub fn demo() -> Scene {
     let sphere = |c: [f32; 3], v: [f32; 3], r: f32| {
@@ -27,10 +27,12 @@ pub fn demo() -> Scene {
             sphere([0.0, -5.0, 2.0], [0.0, -1.0, 0.5], 0.5),
             // Moving along the pillar's axis: never reaches it.
             sphere([5.0, 0.0, 4.0], [0.0, 0.0, 0.5], 0.5),
-            // At rest: no contact in the window.
+            // At rest, until the next ball grazes it.
             sphere([-5.0, 5.0, 1.0], [0.0, 0.0, 0.0], 0.5),
             // Grazes the ball at rest: offset 0.75 = D sideways, so B² − 4AC = 0 exactly, t = 3.
             sphere([-5.75, 8.0, 1.0], [0.0, -1.0, 0.0], 0.25),
+            // Drifting slowly in open space: nothing within the window.
+            sphere([0.0, 5.0, -2.0], [0.1, 0.0, 0.0], 0.5),
         ],
         planes: vec![Plane::new([0.0, 0.0, -4.0], [0.0, 0.0, 1.0]).expect("valid floor")],
         cylinders: vec![

@@ -79,6 +79,8 @@ pub struct PathResult {
     pub wrong_outside_band: usize,
     /// `|t − t*|` in f32 ulps of `t*`, over pairs both call hits with `t* > 0`.
     pub time_ulps: Summary,
+    /// `|t − t*| / t*` over the same pairs.
+    pub time_rel: Summary,
     /// `|dist(t) − D| / (u · (coordinates + D))` at the reported time: the geometric error in
     /// units of the f32 rounding of the scene's coordinates.
     pub gap_coord: Summary,
@@ -156,7 +158,8 @@ fn score(
     answers: &[Option<Option<f32>>],
 ) -> PathResult {
     let (mut cases, mut wrong, mut outside) = (0, 0, 0);
-    let (mut ulps, mut gap_coord, mut gap_rel) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut ulps, mut rel) = (Vec::new(), Vec::new());
+    let (mut gap_coord, mut gap_rel) = (Vec::new(), Vec::new());
     for (((pair, ex), t_true), answer) in pairs.iter().zip(exact).zip(truth).zip(answers) {
         let Some(answer) = answer else { continue };
         cases += 1;
@@ -165,6 +168,7 @@ fn score(
                 let k = f64::from(*k);
                 if *t > 0.0 {
                     ulps.push((k - t).abs() / ulp32(*t));
+                    rel.push((k - t).abs() / t);
                     let d = ex.contact_distance().abs();
                     let gap = ex.gap(k).abs();
                     gap_coord.push(gap / (U32 * (pair.coordinate_scale(k) + d)));
@@ -189,6 +193,7 @@ fn score(
         wrong,
         wrong_outside_band: outside,
         time_ulps: Summary::of(ulps),
+        time_rel: Summary::of(rel),
         gap_coord: Summary::of(gap_coord),
         gap_rel: Summary::of(gap_rel),
     }

@@ -116,18 +116,19 @@ impl Report {
             let _ = writeln!(
                 w,
                 "| path | pairs | wrong (outside band) | time error, ulps p50 / p99 / max | \
+                 relative time error, p99 / max | \
                  geometric error, coordinate-rounding units p50 / p99 / max | \
                  geometric error / D, max |"
             );
-            let _ = writeln!(w, "|---|---:|---:|---|---|---:|");
+            let _ = writeln!(w, "|---|---:|---:|---|---|---|---:|");
             for r in &f.paths {
                 if r.cases == 0 {
-                    let _ = writeln!(w, "| {} | 0 | n/a (no such shape) | | | |", r.path.name());
+                    let _ = writeln!(w, "| {} | 0 | n/a (no such shape) | | | | |", r.path.name());
                     continue;
                 }
                 let _ = writeln!(
                     w,
-                    "| {} | {} | {} ({}) | {} / {} / {} | {} / {} / {} | {:.1e} |",
+                    "| {} | {} | {} ({}) | {} / {} / {} | {:.1e} / {:.1e} | {} / {} / {} | {:.1e} |",
                     r.path.name(),
                     r.cases,
                     r.wrong,
@@ -135,6 +136,8 @@ impl Report {
                     fmt(r.time_ulps.p50),
                     fmt(r.time_ulps.p99),
                     fmt(r.time_ulps.max),
+                    r.time_rel.p99,
+                    r.time_rel.max,
                     fmt(r.gap_coord.p50),
                     fmt(r.gap_coord.p99),
                     fmt(r.gap_coord.max),
