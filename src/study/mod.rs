@@ -29,7 +29,7 @@ pub fn run(cases: usize, seed: u64, mut progress: impl FnMut(usize, usize)) -> R
             result
         })
         .collect();
-    let throughput = throughput(4096, 256, 9, seed);
+    let throughput = throughput(4096, 1024, 15, seed);
     progress(total, total);
     Report {
         families,

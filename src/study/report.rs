@@ -76,7 +76,7 @@ impl Report {
         let _ = writeln!(
             w,
             "\nparry3d is timed through `query::cast_shapes` (the call a user makes) on shapes and \
-             poses built beforehand, ours through `narrow::zip_times`; best of nine timings. \
+             poses built beforehand, ours through `narrow::zip_times`; best of fifteen timings of about 5 ms. \
              docs/benchmarks.md has the criterion figures for every pair kind.\n"
         );
         let _ = writeln!(w, "## Summary: mode × family\n");
