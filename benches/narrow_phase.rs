@@ -11,35 +11,17 @@ use parry3d::math::{Pose, Vector};
 use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, Cylinder as ParryCylinder, HalfSpace};
 use spheresweep::narrow::{self, Query, StaticShape};
+use spheresweep::study::Rng;
 use spheresweep::{Accuracy, Container, Cylinder, Plane, Sphere, SphereStore, reference};
 
 const T_MAX: f32 = 4.0;
 /// In cache (about 250 KiB of columns for sphere pairs) and streaming (far beyond L3).
 const SIZES: [usize; 2] = [4096, 1 << 22];
 
-/// splitmix64: deterministic inputs without a dependency.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, lim: f32) -> [f32; 3] {
-        [
-            self.range(-lim, lim),
-            self.range(-lim, lim),
-            self.range(-lim, lim),
-        ]
-    }
-    fn sphere(&mut self, box_: f32, speed: f32) -> Sphere {
-        Sphere::new(self.vec(box_), self.vec(speed), self.range(0.2, 1.5), 1.0).unwrap()
-    }
+/// A random sphere in the cube `[−box_, box_]³` with speed components up to `speed`.
+fn random_sphere(rng: &mut Rng, box_: f64, speed: f64) -> Sphere {
+    let (c, v, r) = (rng.cube(box_), rng.cube(speed), rng.range(0.2, 1.5));
+    Sphere::new(c.as_vec3().into(), v.as_vec3().into(), r as f32, 1.0).unwrap()
 }
 
 fn options() -> ShapeCastOptions {
@@ -87,9 +69,9 @@ fn sphere_sphere(c: &mut Criterion) {
     let mut g = c.benchmark_group("sphere_sphere");
     for n in SIZES {
         configure(&mut g, n);
-        let mut rng = Rng(1);
-        let a: Vec<Sphere> = (0..n).map(|_| rng.sphere(10.0, 5.0)).collect();
-        let b: Vec<Sphere> = (0..n).map(|_| rng.sphere(10.0, 5.0)).collect();
+        let mut rng = Rng::new(1);
+        let a: Vec<Sphere> = (0..n).map(|_| random_sphere(&mut rng, 10.0, 5.0)).collect();
+        let b: Vec<Sphere> = (0..n).map(|_| random_sphere(&mut rng, 10.0, 5.0)).collect();
         let (sa, sb) = (SphereStore::from_spheres(&a), SphereStore::from_spheres(&b));
         our_modes(&mut g, n, |q, out| {
             narrow::zip_times(&sa, &sb, q, out).unwrap()
@@ -160,8 +142,10 @@ fn against_static<K: StaticShape + Copy>(
     let mut g = c.benchmark_group(name);
     for n in SIZES {
         configure(&mut g, n);
-        let mut rng = Rng(2);
-        let spheres: Vec<Sphere> = (0..n).map(|_| rng.sphere(20.0, 10.0)).collect();
+        let mut rng = Rng::new(2);
+        let spheres: Vec<Sphere> = (0..n)
+            .map(|_| random_sphere(&mut rng, 20.0, 10.0))
+            .collect();
         let store = SphereStore::from_spheres(&spheres);
         our_modes(&mut g, n, |q, out| {
             narrow::static_times(&store, &shape, q, out).unwrap()

@@ -162,7 +162,7 @@ struct Zip<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for Zip<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel<L> for Zip<'_, L, S> {
     #[inline(always)]
     fn lane(&self, i: usize) -> L {
         sphere_sphere::time_of_impact::<L, S>(&self.a.lanes(i), &self.b.lanes(i), self.t_max)
@@ -176,7 +176,7 @@ struct Listed<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for Listed<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel<L> for Listed<'_, L, S> {
     #[inline(always)]
     fn lane(&self, i: usize) -> L {
         let group = &self.pairs[i..self.pairs.len().min(i + L::WIDTH)];
@@ -193,7 +193,7 @@ struct OneAgainst<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver + Sync> LaneKernel<L> for OneAgainst<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel<L> for OneAgainst<'_, L, S> {
     #[inline(always)]
     fn lane(&self, i: usize) -> L {
         sphere_sphere::time_of_impact::<L, S>(&self.one, &self.block.lanes(i), self.t_max)
@@ -207,7 +207,7 @@ struct AgainstStatic<'a, L: Lanes, S, K: StaticShape> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver + Sync, K: StaticShape> LaneKernel<L> for AgainstStatic<'_, L, S, K> {
+impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel<L> for AgainstStatic<'_, L, S, K> {
     #[inline(always)]
     fn lane(&self, i: usize) -> L {
         K::time_of_impact::<L, S>(&self.spheres.lanes(i), &self.shape, self.t_max)
@@ -242,7 +242,7 @@ pub fn zip_times(
         });
     }
     check_output(a.len(), out)?;
-    fn run<L: Lanes, S: Solver + Sync>(a: &SphereStore, b: &SphereStore, t: f32, out: &mut [f32]) {
+    fn run<L: Lanes, S: Solver>(a: &SphereStore, b: &SphereStore, t: f32, out: &mut [f32]) {
         let (t_max, solver) = (L::splat(t), PhantomData::<S>);
         fill(
             out,
@@ -278,12 +278,7 @@ pub fn pair_times(
             });
         }
     }
-    fn run<L: Lanes, S: Solver + Sync>(
-        store: &SphereStore,
-        pairs: &[[u32; 2]],
-        t: f32,
-        o: &mut [f32],
-    ) {
+    fn run<L: Lanes, S: Solver>(store: &SphereStore, pairs: &[[u32; 2]], t: f32, o: &mut [f32]) {
         let (t_max, solver) = (L::splat(t), PhantomData::<S>);
         fill(
             o,
@@ -310,7 +305,7 @@ pub fn one_against_times(
     out: &mut [f32],
 ) -> Result<(), BatchError> {
     check_output(block.len(), out)?;
-    fn run<L: Lanes, S: Solver + Sync>(s: &Sphere, block: &SphereStore, t: f32, out: &mut [f32]) {
+    fn run<L: Lanes, S: Solver>(s: &Sphere, block: &SphereStore, t: f32, out: &mut [f32]) {
         let (t_max, one, solver) = (L::splat(t), SphereLanes::splat(s), PhantomData::<S>);
         fill(
             out,
@@ -481,7 +476,7 @@ pub fn first_contacts<K: StaticShape>(
         .collect())
 }
 
-fn run_static<L: Lanes, S: Solver + Sync, K: StaticShape>(
+fn run_static<L: Lanes, S: Solver, K: StaticShape>(
     spheres: &SphereStore,
     shapes: &[K],
     t_max: f32,
