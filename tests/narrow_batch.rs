@@ -34,7 +34,7 @@ fn alone(a: &Sphere, b: &Sphere, mode: Accuracy) -> f32 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig::with_cases(500))]
 
     #[test]
     fn every_layout_gives_the_same_bits(

@@ -89,7 +89,7 @@ fn check(pair: &Pair, mode: Accuracy, t_max: f32) -> Result<bool, TestCaseError>
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(6000))]
+    #![proptest_config(ProptestConfig::with_cases(30000))]
 
     #[test]
     fn kernels_agree_with_the_reference(pair in pairs(), t_max in t_max()) {
@@ -186,7 +186,7 @@ fn exact_cases_in_every_mode() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(ProptestConfig::with_cases(10000))]
 
     /// A point sphere approaching a plane grazes it exactly (B² − 4AC = 0 in exact arithmetic,
     /// which the literal formula may round either way). `Stable` and `Double` compute

@@ -183,7 +183,7 @@ fn container() -> impl Strategy<Value = Container> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(ProptestConfig::with_cases(10000))]
 
     #[test]
     fn sphere_sphere_invariants(a in sphere(100), b in sphere(100)) {
