@@ -1,6 +1,6 @@
-//! Structure-of-arrays storage of spheres: one f32 column per coordinate, padded to a multiple
-//! of eight with NaN lanes, which no kernel can report as a hit (every hit test is an ordered
-//! comparison, false for NaN).
+//! Structure-of-arrays storage of spheres in blocks of eight (AoSoA): one f32 column per
+//! coordinate inside each block, padded with NaN lanes, which no kernel can report as a hit
+//! (every hit test is an ordered comparison, false for NaN).
 
 use crate::Sphere;
 use crate::error::ShapeError;
@@ -10,7 +10,32 @@ use crate::narrow::sphere_sphere::SphereLanes;
 /// The lane count every column is padded to (an `f32x8`).
 pub const PAD: usize = 8;
 
-/// Spheres as f32 columns, padded to a multiple of [`PAD`].
+/// Eight spheres, one f32 column each for what the kernels read: a structure of arrays in
+/// blocks (AoSoA). A lane group is one block, aligned for AVX loads; a batch over a store
+/// streams one array instead of seven. Unused lanes are NaN.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(32))]
+struct Block {
+    cx: [f32; PAD],
+    cy: [f32; PAD],
+    cz: [f32; PAD],
+    vx: [f32; PAD],
+    vy: [f32; PAD],
+    vz: [f32; PAD],
+    r: [f32; PAD],
+}
+
+const EMPTY: Block = Block {
+    cx: [f32::NAN; PAD],
+    cy: [f32::NAN; PAD],
+    cz: [f32::NAN; PAD],
+    vx: [f32::NAN; PAD],
+    vy: [f32::NAN; PAD],
+    vz: [f32::NAN; PAD],
+    r: [f32::NAN; PAD],
+};
+
+/// Spheres as f32 columns in blocks of eight ([`PAD`]), padded with NaN lanes.
 ///
 /// ```
 /// use spheresweep::{Sphere, SphereStore};
@@ -23,13 +48,7 @@ pub const PAD: usize = 8;
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SphereStore {
     len: usize,
-    cx: Vec<f32>,
-    cy: Vec<f32>,
-    cz: Vec<f32>,
-    vx: Vec<f32>,
-    vy: Vec<f32>,
-    vz: Vec<f32>,
-    r: Vec<f32>,
+    blocks: Vec<Block>,
     mass: Vec<f32>,
 }
 
@@ -106,30 +125,16 @@ impl SphereStore {
 
     /// Appends a sphere, keeping the columns padded.
     pub fn push(&mut self, s: &Sphere) {
-        if self.len == self.cx.len() {
-            for col in self.columns_mut() {
-                col.resize(col.len() + PAD, f32::NAN);
-            }
+        let (i, lane) = (self.len / PAD, self.len % PAD);
+        if lane == 0 {
+            self.blocks.push(EMPTY);
         }
-        let (c, v, i) = (s.centre(), s.velocity(), self.len);
-        let values = [c.x, c.y, c.z, v.x, v.y, v.z, s.radius(), s.mass()];
-        for (col, value) in self.columns_mut().into_iter().zip(values) {
-            col[i] = value;
-        }
+        let (c, v, b) = (s.centre(), s.velocity(), &mut self.blocks[i]);
+        (b.cx[lane], b.cy[lane], b.cz[lane]) = (c.x, c.y, c.z);
+        (b.vx[lane], b.vy[lane], b.vz[lane]) = (v.x, v.y, v.z);
+        b.r[lane] = s.radius();
+        self.mass.push(s.mass());
         self.len += 1;
-    }
-
-    fn columns_mut(&mut self) -> [&mut Vec<f32>; 8] {
-        [
-            &mut self.cx,
-            &mut self.cy,
-            &mut self.cz,
-            &mut self.vx,
-            &mut self.vy,
-            &mut self.vz,
-            &mut self.r,
-            &mut self.mass,
-        ]
     }
 
     /// Number of spheres.
@@ -147,16 +152,17 @@ impl SphereStore {
     /// Length of every column: `len()` rounded up to a multiple of [`PAD`].
     #[inline]
     pub fn padded_len(&self) -> usize {
-        self.cx.len()
+        self.blocks.len() * PAD
     }
 
     /// Sphere `i`, if there is one.
     pub fn get(&self, i: usize) -> Option<Sphere> {
         (i < self.len).then(|| {
+            let (b, lane) = (&self.blocks[i / PAD], i % PAD);
             Sphere::new(
-                [self.cx[i], self.cy[i], self.cz[i]],
-                [self.vx[i], self.vy[i], self.vz[i]],
-                self.r[i],
+                [b.cx[lane], b.cy[lane], b.cz[lane]],
+                [b.vx[lane], b.vy[lane], b.vz[lane]],
+                b.r[lane],
                 self.mass[i],
             )
             .expect("the store holds only validated spheres")
@@ -168,24 +174,28 @@ impl SphereStore {
         (0..self.len).filter_map(|i| self.get(i)).collect()
     }
 
-    /// Spheres `i .. i + L::WIDTH` as lanes (padding lanes are NaN).
+    /// Spheres `i .. i + L::WIDTH` as lanes (padding lanes are NaN); `i` is a multiple of
+    /// `L::WIDTH`.
     ///
     /// # Panics
-    /// If `i + L::WIDTH > padded_len()` (an internal invariant of the batch drivers).
+    /// If `i ≥ padded_len()` (an internal invariant of the batch drivers).
     #[inline(always)]
     pub fn lanes<L: Lanes>(&self, i: usize) -> SphereLanes<L> {
-        // One check for all seven columns: re-sliced to the same length `n`, and with
-        // `i + WIDTH ≤ n` asserted, every column access below is provably in bounds.
-        let n = self.padded_len();
-        assert!(
-            i + L::WIDTH <= n,
-            "lane group {i} beyond the padded columns ({n})"
-        );
-        let col = |c: &[f32]| L::load(&c[..n][i..i + L::WIDTH]);
+        debug_assert_eq!(i % L::WIDTH, 0);
+        // One bounds check: the block. Inside it every load is at a constant offset.
+        let (b, lane) = (&self.blocks[i / PAD], i % PAD);
         SphereLanes {
-            c: [col(&self.cx), col(&self.cy), col(&self.cz)],
-            v: [col(&self.vx), col(&self.vy), col(&self.vz)],
-            r: col(&self.r),
+            c: [
+                L::load8(&b.cx, lane),
+                L::load8(&b.cy, lane),
+                L::load8(&b.cz, lane),
+            ],
+            v: [
+                L::load8(&b.vx, lane),
+                L::load8(&b.vy, lane),
+                L::load8(&b.vz, lane),
+            ],
+            r: L::load8(&b.r, lane),
         }
     }
 
@@ -193,21 +203,18 @@ impl SphereStore {
     /// are NaN.
     #[inline(always)]
     pub fn gather<L: Lanes>(&self, indices: impl Iterator<Item = usize>) -> SphereLanes<L> {
-        let mut cols = [[f32::NAN; PAD]; 7];
-        for (lane, i) in indices.take(L::WIDTH).enumerate() {
+        let mut g = EMPTY;
+        for (k, i) in indices.take(L::WIDTH).enumerate() {
             debug_assert!(i < self.len);
-            let values = [
-                self.cx[i], self.cy[i], self.cz[i], self.vx[i], self.vy[i], self.vz[i], self.r[i],
-            ];
-            for (col, value) in cols.iter_mut().zip(values) {
-                col[lane] = value;
-            }
+            let (b, lane) = (&self.blocks[i / PAD], i % PAD);
+            (g.cx[k], g.cy[k], g.cz[k]) = (b.cx[lane], b.cy[lane], b.cz[lane]);
+            (g.vx[k], g.vy[k], g.vz[k]) = (b.vx[lane], b.vy[lane], b.vz[lane]);
+            g.r[k] = b.r[lane];
         }
-        let [cx, cy, cz, vx, vy, vz, r] = cols.map(|col| L::load(&col));
         SphereLanes {
-            c: [cx, cy, cz],
-            v: [vx, vy, vz],
-            r,
+            c: [L::load8(&g.cx, 0), L::load8(&g.cy, 0), L::load8(&g.cz, 0)],
+            v: [L::load8(&g.vx, 0), L::load8(&g.vy, 0), L::load8(&g.vz, 0)],
+            r: L::load8(&g.r, 0),
         }
     }
 }

@@ -25,8 +25,9 @@ pub trait Lanes:
     fn splat(x: f32) -> Self;
     /// Every lane set to `x`, rounded to the lane precision (for values prepared in f64).
     fn splat64(x: f64) -> Self;
-    /// Lanes from the first `WIDTH` values of `col`.
-    fn load(col: &[f32]) -> Self;
+    /// Lanes from a block column of eight, starting at `lane` (`0` for eight-wide lanes,
+    /// `0` or `4` for four-wide): constant offsets, no bounds check.
+    fn load8(col: &[f32; 8], lane: usize) -> Self;
     /// Writes the lanes, rounded to f32, to the first `WIDTH` slots of `out`.
     fn store(self, out: &mut [f32]);
     /// Square root.
@@ -61,9 +62,10 @@ macro_rules! impl_lanes {
                 <$t>::splat(x as $scalar)
             }
             #[inline(always)]
-            fn load(col: &[f32]) -> Self {
-                let col: &[f32; $width] = col[..$width].try_into().expect("a full lane");
-                <$t>::new(col.map(|x| x as $scalar))
+            fn load8(col: &[f32; 8], lane: usize) -> Self {
+                // `lane & (8 − WIDTH)` is 0 for eight lanes and 0 or 4 for four: in range.
+                let start = lane & (8 - $width);
+                <$t>::new(std::array::from_fn(|k| col[start + k] as $scalar))
             }
             #[inline(always)]
             fn store(self, out: &mut [f32]) {

@@ -152,8 +152,9 @@ impl Solver for Stable {
             }
             Side::Interior => {
                 // t2 = (−b + √q)/A if b ≤ 0, else C/(−b − √q): never a difference of
-                // like-signed terms.
-                let root = L::select(b.gt(zero), c / (-b - sqrt), (sqrt - b) / a);
+                // like-signed terms. Select numerator and denominator, then divide once.
+                let outwards = b.gt(zero);
+                let root = L::select(outwards, c, sqrt - b) / L::select(outwards, -b - sqrt, a);
                 let ahead = moving & q.ge(zero) & root.gt(zero);
                 let deeper = moving & c.ge(zero) & b.gt(zero);
                 (L::select(ahead, root, zero), ahead | deeper)
