@@ -1,7 +1,6 @@
 //! The first-order rounding-error model of docs/derivations/accuracy.md, shared by the
 //! narrow-phase tests: where hit/miss may differ from the f64 reference, and by how much
 //! times may (pairs and their answers come from `spheresweep::study::Pair`).
-#![allow(dead_code)]
 
 use spheresweep::Accuracy;
 use spheresweep::reference::Side;
