@@ -39,6 +39,25 @@ fn stable_and_double_are_wrong_only_inside_their_bands() {
 }
 
 #[test]
+fn the_bands_hold_at_every_difficulty() {
+    // The report's sweep: k = 1 … 6, where textbook's wrong answers explode and stable's
+    // appear only at the extreme levels — always inside their derived bands.
+    for family in spheresweep::study::SWEPT {
+        for k in 1..=6 {
+            let r = measure_family(family, k, CASES / 2, SEED);
+            for p in r.paths.iter().filter(|p| p.path != Path::Parry) {
+                assert_eq!(
+                    p.wrong_outside_band,
+                    0,
+                    "{} at k = {k}: {p:?}",
+                    family.name()
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn reported_times_put_the_bodies_at_distance_d() {
     for family in Family::ALL {
         let stable = result(family, Path::Mode(Accuracy::Stable));

@@ -37,7 +37,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         std::fs::File::create(path).map_err(fail)
     };
     let (mut md_file, mut svg_file) = (open(&args.out)?, open(&args.svg)?);
-    let bar = ProgressBar::new(study::Family::ALL.len() as u64 + 1);
+    let bar = ProgressBar::new((study::Family::ALL.len() + study::SWEPT.len()) as u64 + 1);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
     )?);

@@ -16,10 +16,19 @@ pub use pair::{Other, Pair, kernel_times};
 pub use report::Report;
 pub use rng::Rng;
 
-/// Runs the whole study: every family at its stated difficulty, then the throughput of every
-/// path; `progress` is told after each step (`done`, `total`).
+/// The families swept over difficulty `k = 1 ..= 6` in the report.
+pub const SWEPT: [Family; 4] = [
+    Family::Grazing,
+    Family::FarSmall,
+    Family::FarFromPlane,
+    Family::PlaneFarAnchor,
+];
+
+/// Runs the whole study: every family at its stated difficulty, the swept families at every
+/// difficulty (a quarter of the cases each), then the throughput of every path; `progress` is
+/// told after each step (`done`, `total`).
 pub fn run(cases: usize, seed: u64, mut progress: impl FnMut(usize, usize)) -> Report {
-    let total = Family::ALL.len() + 1;
+    let total = Family::ALL.len() + SWEPT.len() + 1;
     let families = Family::ALL
         .into_iter()
         .enumerate()
@@ -29,10 +38,22 @@ pub fn run(cases: usize, seed: u64, mut progress: impl FnMut(usize, usize)) -> R
             result
         })
         .collect();
+    let sweeps = SWEPT
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, family)| {
+            let levels: Vec<FamilyResult> = (1..=6)
+                .map(|k| measure_family(family, k, cases.div_ceil(4), seed))
+                .collect();
+            progress(Family::ALL.len() + i + 1, total);
+            levels
+        })
+        .collect();
     let throughput = throughput(4096, 1024, 15, seed);
     progress(total, total);
     Report {
         families,
+        sweeps,
         throughput,
         cases,
         seed,

@@ -11,6 +11,8 @@ use super::measure::{FamilyResult, Path, PathResult};
 pub struct Report {
     /// Per family, every path.
     pub families: Vec<FamilyResult>,
+    /// The swept families at every difficulty, family by family.
+    pub sweeps: Vec<FamilyResult>,
     /// Pairs per second of every path on baseline sphere pairs, one thread.
     pub throughput: Vec<(Path, f64)>,
     /// Pairs per family.
@@ -110,6 +112,7 @@ impl Report {
             }
             let _ = writeln!(w);
         }
+        self.sweep_tables(w);
         let _ = writeln!(w, "\n## Details per family\n");
         for f in &self.families {
             let _ = writeln!(w, "### {} (k = {})\n", f.family.name(), f.level);
@@ -157,6 +160,35 @@ impl Report {
              docs/derivations/accuracy.md. parry3d is given no band."
         );
         md
+    }
+
+    fn sweep_tables(&self, w: &mut String) {
+        let _ = writeln!(w, "\n## Turning the knob: difficulty k = 1 … 6\n");
+        let _ = writeln!(
+            w,
+            "Each cell: share of wrong hit/miss answers · p99 geometric error (coordinate-rounding \
+             units), on {} pairs per level. `textbook`'s band grows as `(X/D)²` and its errors \
+             with it; `stable`'s grows as `X/D`.\n",
+            self.cases.div_ceil(4)
+        );
+        let mut families: Vec<_> = self.sweeps.iter().map(|f| f.family).collect();
+        families.dedup();
+        for family in families {
+            let _ = write!(w, "**{}**\n\n| k |", family.name());
+            for path in Path::ALL {
+                let _ = write!(w, " {} |", path.name());
+            }
+            let _ = writeln!(w, "\n|---|{}", "---|".repeat(Path::ALL.len()));
+            for f in self.sweeps.iter().filter(|f| f.family == family) {
+                let _ = write!(w, "| {} |", f.level);
+                for r in &f.paths {
+                    let share = 100.0 * r.wrong as f64 / r.cases.max(1) as f64;
+                    let _ = write!(w, " {share:.1} % · {} |", fmt(r.gap_coord.p99));
+                }
+                let _ = writeln!(w);
+            }
+            let _ = writeln!(w);
+        }
     }
 
     /// The SVG plot: worst-family p99 geometric error against throughput, one point per path.
