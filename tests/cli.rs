@@ -43,6 +43,19 @@ fn demo_prints_one_row_per_sphere_in_every_mode() {
 }
 
 #[test]
+fn demo_draws_the_scene_when_asked() {
+    let path = std::env::temp_dir().join(format!("spheresweep-demo-{}.svg", std::process::id()));
+    let out = run(&["demo", "--svg", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("paths to the first contact"));
+    std::fs::remove_file(&path).ok();
+    let out = run(&["demo", "--svg", "/proc/no-such-dir/demo.svg"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("cannot write /proc/no-such-dir/demo.svg"));
+}
+
+#[test]
 fn bad_arguments_fail_with_a_message_naming_them() {
     let out = run(&["demo", "--t-max=-1"]);
     assert!(!out.status.success());

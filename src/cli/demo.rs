@@ -18,6 +18,9 @@ pub struct Args {
     /// Accuracy mode of the kernels: textbook, stable or double.
     #[arg(long, default_value_t = Accuracy::Stable)]
     accuracy: Accuracy,
+    /// Also draw the scene from above, with every sphere's path to its first contact, as SVG.
+    #[arg(long, value_name = "FILE")]
+    svg: Option<std::path::PathBuf>,
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
@@ -35,12 +38,14 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "{:>6}  {:<13} {:>9}  {:>26}  {:>23}",
         "sphere", "hits", "time", "contact point", "normal on sphere"
     )?;
-    for (i, contact) in first_contacts(&scene, query, true)?.iter().enumerate() {
+    let contacts = first_contacts(&scene, query, true)?;
+    for (i, contact) in contacts.iter().enumerate() {
         match contact {
             None => writeln!(out, "{i:>6}  {:<13} {:>9}", "nothing", "-")?,
             Some(hit) => {
                 let c = hit.geometry.expect("geometry was asked for");
-                let (p, n) = (c.point, c.normal);
+                // `+ 0.0` turns IEEE −0.0 into 0.0 for display.
+                let (p, n) = (c.point + 0.0, c.normal + 0.0);
                 writeln!(
                     out,
                     "{i:>6}  {:<13} {:>9.4}  ({:>7.3}, {:>7.3}, {:>7.3})  ({:>6.3}, {:>6.3}, {:>6.3})",
@@ -55,6 +60,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 )?;
             }
         }
+    }
+    if let Some(path) = &args.svg {
+        let picture = super::picture::top_view(&scene, &contacts, args.t_max)?;
+        std::fs::write(path, picture)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        writeln!(out, "\nwrote {}", path.display())?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod demo;
+mod picture;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
