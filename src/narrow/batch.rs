@@ -121,15 +121,32 @@ fn check_output(expected: usize, out: &[f32]) -> Result<(), BatchError> {
     }
 }
 
-/// One lane group of a batch: items `i .. i + WIDTH`. A trait rather than a closure so that
+/// One lane group of a batch: it writes the results for items `i .. i + out.len()`
+/// (`out.len() ≤ WIDTH`, shorter only at the tail). A trait rather than a closure so that
 /// `#[inline(always)]` puts the whole kernel inside the driver's loop.
-trait LaneKernel<L>: Sync {
-    fn lane(&self, i: usize) -> L;
+trait LaneKernel: Sync {
+    /// One result per query item.
+    type Item: Copy + Send;
+    /// Items per lane group.
+    const WIDTH: usize;
+    fn write(&self, i: usize, out: &mut [Self::Item]);
+}
+
+/// Stores the first `out.len()` lanes of `t` (all of them but at the tail).
+#[inline(always)]
+fn store_lanes<L: Lanes>(t: L, out: &mut [f32]) {
+    if out.len() == L::WIDTH {
+        t.store(out);
+    } else {
+        let mut tail = [0.0f32; 8];
+        t.store(&mut tail);
+        out.copy_from_slice(&tail[..out.len()]);
+    }
 }
 
 /// Fills `out` lane group by lane group, in parallel chunks above [`PARALLEL_MIN`].
 #[inline(always)]
-fn fill<L: Lanes, K: LaneKernel<L>>(out: &mut [f32], kernel: &K) {
+fn fill<K: LaneKernel>(out: &mut [K::Item], kernel: &K) {
     if out.len() >= PARALLEL_MIN {
         out.par_chunks_mut(CHUNK)
             .enumerate()
@@ -140,18 +157,18 @@ fn fill<L: Lanes, K: LaneKernel<L>>(out: &mut [f32], kernel: &K) {
 }
 
 #[inline(always)]
-fn fill_range<L: Lanes, K: LaneKernel<L>>(offset: usize, out: &mut [f32], kernel: &K) {
-    let mut parts = out.chunks_exact_mut(L::WIDTH);
+fn fill_range<K: LaneKernel>(offset: usize, out: &mut [K::Item], kernel: &K) {
+    // Exact chunks: full groups have a length known at compile time, so `store_lanes`'
+    // tail check folds away in the hot loop; only the remainder takes the tail path.
+    let mut parts = out.chunks_exact_mut(K::WIDTH);
     let mut i = offset;
     for part in &mut parts {
-        kernel.lane(i).store(part);
-        i += L::WIDTH;
+        kernel.write(i, part);
+        i += K::WIDTH;
     }
     let rest = parts.into_remainder();
     if !rest.is_empty() {
-        let mut tail = [0.0f32; 8];
-        kernel.lane(i).store(&mut tail);
-        rest.copy_from_slice(&tail[..rest.len()]);
+        kernel.write(i, rest);
     }
 }
 
@@ -162,10 +179,15 @@ struct Zip<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver> LaneKernel<L> for Zip<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel for Zip<'_, L, S> {
+    type Item = f32;
+    const WIDTH: usize = L::WIDTH;
     #[inline(always)]
-    fn lane(&self, i: usize) -> L {
-        sphere_sphere::time_of_impact::<L, S>(&self.a.lanes(i), &self.b.lanes(i), self.t_max)
+    fn write(&self, i: usize, out: &mut [f32]) {
+        store_lanes(
+            sphere_sphere::time_of_impact::<L, S>(&self.a.lanes(i), &self.b.lanes(i), self.t_max),
+            out,
+        );
     }
 }
 
@@ -176,13 +198,18 @@ struct Listed<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver> LaneKernel<L> for Listed<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel for Listed<'_, L, S> {
+    type Item = f32;
+    const WIDTH: usize = L::WIDTH;
     #[inline(always)]
-    fn lane(&self, i: usize) -> L {
-        let group = &self.pairs[i..self.pairs.len().min(i + L::WIDTH)];
+    fn write(&self, i: usize, out: &mut [f32]) {
+        let group = &self.pairs[i..i + out.len()];
         let a = self.store.gather::<L>(group.iter().map(|p| p[0] as usize));
         let b = self.store.gather::<L>(group.iter().map(|p| p[1] as usize));
-        sphere_sphere::time_of_impact::<L, S>(&a, &b, self.t_max)
+        store_lanes(
+            sphere_sphere::time_of_impact::<L, S>(&a, &b, self.t_max),
+            out,
+        );
     }
 }
 
@@ -193,10 +220,15 @@ struct OneAgainst<'a, L, S> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver> LaneKernel<L> for OneAgainst<'_, L, S> {
+impl<L: Lanes, S: Solver> LaneKernel for OneAgainst<'_, L, S> {
+    type Item = f32;
+    const WIDTH: usize = L::WIDTH;
     #[inline(always)]
-    fn lane(&self, i: usize) -> L {
-        sphere_sphere::time_of_impact::<L, S>(&self.one, &self.block.lanes(i), self.t_max)
+    fn write(&self, i: usize, out: &mut [f32]) {
+        store_lanes(
+            sphere_sphere::time_of_impact::<L, S>(&self.one, &self.block.lanes(i), self.t_max),
+            out,
+        );
     }
 }
 
@@ -207,10 +239,15 @@ struct AgainstStatic<'a, L: Lanes, S, K: StaticShape> {
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel<L> for AgainstStatic<'_, L, S, K> {
+impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for AgainstStatic<'_, L, S, K> {
+    type Item = f32;
+    const WIDTH: usize = L::WIDTH;
     #[inline(always)]
-    fn lane(&self, i: usize) -> L {
-        K::time_of_impact::<L, S>(&self.spheres.lanes(i), &self.shape, self.t_max)
+    fn write(&self, i: usize, out: &mut [f32]) {
+        store_lanes(
+            K::time_of_impact::<L, S>(&self.spheres.lanes(i), &self.shape, self.t_max),
+            out,
+        );
     }
 }
 
@@ -456,65 +493,63 @@ pub fn first_contacts<K: StaticShape>(
     if shapes.len() > MAX_STATIC {
         return Err(BatchError::TooManyShapes(shapes.len()));
     }
-    let mut times = vec![f32::INFINITY; spheres.len()];
-    let mut which = vec![0.0f32; spheres.len()];
+    let mut out = vec![None; spheres.len()];
     if !shapes.is_empty() {
         with_mode!(
             query.accuracy,
-            run_static::<K>(spheres, shapes, query.t_max, &mut times, &mut which)
+            run_first::<K>(spheres, shapes, query.t_max, &mut out)
         );
     }
-    Ok(times
-        .into_iter()
-        .zip(which)
-        .map(|(time, j)| {
-            time.is_finite().then_some(FirstContact {
-                time,
-                other: j as u32,
-            })
-        })
-        .collect())
+    Ok(out)
 }
 
-fn run_static<L: Lanes, S: Solver, K: StaticShape>(
+/// Every sphere of a lane group against every prepared shape: the earliest, lowest index.
+struct FirstOf<'a, L: Lanes, S, K: StaticShape> {
+    spheres: &'a SphereStore,
+    shapes: Vec<K::Lanes<L>>,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for FirstOf<'_, L, S, K> {
+    type Item = Option<FirstContact>;
+    const WIDTH: usize = L::WIDTH;
+    #[inline(always)]
+    fn write(&self, i: usize, out: &mut [Option<FirstContact>]) {
+        let s = self.spheres.lanes::<L>(i);
+        let mut best = L::splat(f32::INFINITY);
+        let mut best_j = L::splat(0.0);
+        for (j, shape) in self.shapes.iter().enumerate() {
+            let t = K::time_of_impact::<L, S>(&s, shape, self.t_max);
+            let sooner = t.lt(best);
+            best = L::select(sooner, t, best);
+            best_j = L::select(sooner, L::splat(j as f32), best_j);
+        }
+        let (mut times, mut which) = ([0.0f32; 8], [0.0f32; 8]);
+        best.store(&mut times);
+        best_j.store(&mut which);
+        for ((slot, time), j) in out.iter_mut().zip(times).zip(which) {
+            *slot = time.is_finite().then_some(FirstContact {
+                time,
+                other: j as u32,
+            });
+        }
+    }
+}
+
+fn run_first<L: Lanes, S: Solver, K: StaticShape>(
     spheres: &SphereStore,
     shapes: &[K],
-    t_max: f32,
-    times: &mut [f32],
-    which: &mut [f32],
+    t: f32,
+    out: &mut [Option<FirstContact>],
 ) {
-    let t_max = L::splat(t_max);
-    let prepared: Vec<K::Lanes<L>> = shapes.iter().map(K::splat).collect();
-    let run = |offset: usize, times: &mut [f32], which: &mut [f32]| {
-        let mut i = 0;
-        while i < times.len() {
-            let s = spheres.lanes::<L>(offset + i);
-            let mut best = L::splat(f32::INFINITY);
-            let mut best_j = L::splat(0.0);
-            for (j, shape) in prepared.iter().enumerate() {
-                let t = K::time_of_impact::<L, S>(&s, shape, t_max);
-                let sooner = t.lt(best);
-                best = L::select(sooner, t, best);
-                best_j = L::select(sooner, L::splat(j as f32), best_j);
-            }
-            let n = L::WIDTH.min(times.len() - i);
-            let (mut t_out, mut j_out) = ([0.0f32; 8], [0.0f32; 8]);
-            best.store(&mut t_out);
-            best_j.store(&mut j_out);
-            times[i..i + n].copy_from_slice(&t_out[..n]);
-            which[i..i + n].copy_from_slice(&j_out[..n]);
-            i += L::WIDTH;
-        }
+    let kernel = FirstOf::<L, S, K> {
+        spheres,
+        shapes: shapes.iter().map(K::splat).collect(),
+        t_max: L::splat(t),
+        solver: PhantomData,
     };
-    if times.len() >= PARALLEL_MIN {
-        times
-            .par_chunks_mut(CHUNK)
-            .zip(which.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(k, (t, w))| run(k * CHUNK, t, w));
-    } else {
-        run(0, times, which);
-    }
+    fill(out, &kernel);
 }
 
 /// [`first_contacts`] with the contact point and normal of every hit, computed by the f64

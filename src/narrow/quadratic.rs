@@ -87,14 +87,6 @@ impl<L: Lanes> Relative<L> for Relative1<L> {
     }
 }
 
-/// `Copy` for the lane structs (derive would require `L: Copy` bounds anyway).
-impl<L: Copy> Clone for Relative3<L> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-impl<L: Copy> Copy for Relative3<L> {}
-
 /// An accuracy mode's way to find the earliest admissible root.
 pub trait Solver: Sync {
     /// Whether the mode is the seed's formula literally: anchors as given, `ŝ × x × ŝ`.
