@@ -1,30 +1,9 @@
-//! Errors at the validation boundary: each names the shape, the field and what is wrong.
+//! Errors at the validation boundary: each names the shape, the field and what is wrong; and
+//! [`Error`], which wraps every area's error so that a caller can `?` across areas.
 
 use std::fmt;
 
-/// The kind of shape an error is about.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ShapeKind {
-    /// A moving [`Sphere`](crate::Sphere).
-    Sphere,
-    /// A static infinite [`Plane`](crate::Plane).
-    Plane,
-    /// A static infinite [`Cylinder`](crate::Cylinder).
-    Cylinder,
-    /// A static spherical [`Container`](crate::Container).
-    Container,
-}
-
-impl fmt::Display for ShapeKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ShapeKind::Sphere => "sphere",
-            ShapeKind::Plane => "plane",
-            ShapeKind::Cylinder => "cylinder",
-            ShapeKind::Container => "container",
-        })
-    }
-}
+use crate::shape::ShapeKind;
 
 /// What is wrong with a field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -78,4 +57,27 @@ impl ShapeError {
             problem,
         }
     }
+}
+
+/// Any error of the library: one type to `?` across areas (shapes, stores, queries).
+///
+/// ```
+/// use spheresweep::{Error, Sphere};
+/// fn build() -> Result<Sphere, Error> {
+///     Ok(Sphere::new([0.0; 3], [0.0; 3], -1.0, 1.0)?)
+/// }
+/// assert_eq!(build().unwrap_err().to_string(), "sphere radius is negative");
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A shape was rejected by its constructor.
+    #[error(transparent)]
+    Shape(#[from] ShapeError),
+    /// A store could not be built or updated from columns.
+    #[error(transparent)]
+    Store(#[from] crate::store::StoreError),
+    /// A batch call's arguments do not fit together.
+    #[error(transparent)]
+    Batch(#[from] crate::batch::BatchError),
 }

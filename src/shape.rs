@@ -6,7 +6,89 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::error::{Problem, ShapeError, ShapeKind};
+use crate::error::{Problem, ShapeError};
+
+/// The four kinds of body of the seed: the one enum that names them (errors, contacts, counters).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ShapeKind {
+    /// A moving [`Sphere`].
+    Sphere,
+    /// A static infinite [`Plane`].
+    Plane,
+    /// A static infinite [`Cylinder`].
+    Cylinder,
+    /// A static spherical [`Container`].
+    Container,
+}
+
+impl ShapeKind {
+    /// Every kind, in the order ties are broken (spheres first).
+    pub const ALL: [ShapeKind; 4] = [
+        ShapeKind::Sphere,
+        ShapeKind::Plane,
+        ShapeKind::Cylinder,
+        ShapeKind::Container,
+    ];
+
+    /// The lower-case name used in messages and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Plane => "plane",
+            ShapeKind::Cylinder => "cylinder",
+            ShapeKind::Container => "container",
+        }
+    }
+}
+
+impl std::fmt::Display for ShapeKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Any one body a sphere can touch, by value: a single pair query names its other body with it.
+///
+/// ```
+/// use spheresweep::{Plane, Shape, ShapeKind};
+/// let floor = Shape::from(Plane::new([0.0; 3], [0.0, 0.0, 1.0])?);
+/// assert_eq!(floor.kind(), ShapeKind::Plane);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// A second moving sphere (exterior contact).
+    Sphere(Sphere),
+    /// A static plane.
+    Plane(Plane),
+    /// A static infinite cylinder.
+    Cylinder(Cylinder),
+    /// A container the sphere is inside.
+    Container(Container),
+}
+
+impl Shape {
+    /// Which kind of body this is.
+    pub const fn kind(&self) -> ShapeKind {
+        match self {
+            Shape::Sphere(_) => ShapeKind::Sphere,
+            Shape::Plane(_) => ShapeKind::Plane,
+            Shape::Cylinder(_) => ShapeKind::Cylinder,
+            Shape::Container(_) => ShapeKind::Container,
+        }
+    }
+}
+
+macro_rules! shape_from {
+    ($($t:ident),*) => {$(
+        impl From<$t> for Shape {
+            fn from(s: $t) -> Self {
+                Shape::$t(s)
+            }
+        }
+    )*};
+}
+shape_from!(Sphere, Plane, Cylinder, Container);
 
 /// A sphere moving at constant velocity: `r(t) = centre + velocity · t`.
 ///
@@ -106,6 +188,22 @@ impl Sphere {
             radius,
             mass,
         })
+    }
+
+    /// A sphere from values already validated at the way in (the store's columns): no check.
+    #[inline]
+    pub(crate) const fn from_validated(
+        centre: Vec3,
+        velocity: Vec3,
+        radius: f32,
+        mass: f32,
+    ) -> Self {
+        Self {
+            centre,
+            velocity,
+            radius,
+            mass,
+        }
     }
 
     /// Centre at `t = 0`.

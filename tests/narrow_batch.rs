@@ -3,11 +3,15 @@
 //! depend on the thread count; bad arguments are errors, not panics.
 
 use proptest::prelude::*;
-use spheresweep::narrow::{
-    BatchError, Query, first_contact_against, first_contacts, first_contacts_with_geometry,
-    one_against_times, pair_times, static_times, zip_times,
+use spheresweep::batch::{
+    earliest_sphere_contact, earliest_static_contacts, one_against_times, pair_times, static_times,
+    zip_times,
 };
-use spheresweep::{Accuracy, Container, Cylinder, Plane, Sphere, SphereStore};
+use spheresweep::store::Field;
+use spheresweep::{
+    Accuracy, BatchError, Container, Cylinder, Plane, QueryOptions, Shape, Sphere, SphereStore,
+    time_of_impact,
+};
 
 fn sphere() -> impl Strategy<Value = Sphere> {
     (
@@ -18,8 +22,8 @@ fn sphere() -> impl Strategy<Value = Sphere> {
         .prop_map(|(c, v, r)| Sphere::new(c, v, r, 1.0).unwrap())
 }
 
-fn query(mode: Accuracy) -> Query {
-    Query::new(50.0, mode).unwrap()
+fn query(mode: Accuracy) -> QueryOptions {
+    QueryOptions::new(50.0, mode).unwrap()
 }
 
 /// One pair alone through the batch API: the reference point for every batch layout.
@@ -54,18 +58,23 @@ proptest! {
             let mut listed = vec![0.0; n];
             pair_times(&both, &pairs, query(mode), &mut listed).unwrap();
             prop_assert_eq!(to_bits(&zipped), to_bits(&expected));
+            // The single-pair entry point gives the batch's bits.
+            let single: Vec<f32> = (0..n)
+                .map(|i| time_of_impact(&a[i], &Shape::Sphere(b[i]), query(mode)).unwrap_or(f32::INFINITY))
+                .collect();
+            prop_assert_eq!(to_bits(&single), to_bits(&expected));
             prop_assert_eq!(to_bits(&listed), to_bits(&expected));
             if let Some(first) = a.first() {
                 let mut one = vec![0.0; n];
                 one_against_times(first, &sb, query(mode), &mut one).unwrap();
                 let one_expected: Vec<f32> = b.iter().map(|s| alone(first, s, mode)).collect();
                 prop_assert_eq!(to_bits(&one), to_bits(&one_expected));
-                let best = first_contact_against(first, &sb, query(mode));
+                let best = earliest_sphere_contact(first, &sb, query(mode));
                 let min = one_expected.iter().cloned().fold(f32::INFINITY, f32::min);
                 prop_assert_eq!(best.map(|f| f.time), min.is_finite().then_some(min));
                 if let Some(f) = best {
                     // Ties go to the lowest index.
-                    prop_assert_eq!(f.other as usize, one_expected.iter().position(|&t| t == min).unwrap());
+                    prop_assert_eq!(f.body.index as usize, one_expected.iter().position(|&t| t == min).unwrap());
                 }
             }
         }
@@ -81,22 +90,23 @@ proptest! {
             .map(|(k, n)| Plane::new([0.0, 0.0, -10.0 * k as f32], *n).unwrap())
             .collect();
         for mode in Accuracy::ALL {
-            let got = first_contacts(&store, &planes, query(mode)).unwrap();
+            let got = earliest_static_contacts(&store, &planes, query(mode));
             prop_assert_eq!(got.len(), spheres.len());
             for (i, s) in spheres.iter().enumerate() {
                 let each: Vec<Option<f32>> = planes.iter()
-                    .map(|p| first_contacts(&SphereStore::from_spheres(&[*s]), &[*p], query(mode)).unwrap()[0].map(|f| f.time))
+                    .map(|p| earliest_static_contacts(&SphereStore::from_spheres(&[*s]), &[*p], query(mode))[0].map(|f| f.time))
                     .collect();
                 let best = each.iter().flatten().cloned().fold(f32::INFINITY, f32::min);
-                // static_times gives the same bits for one shape as first_contacts.
+                // static_times gives the same bits for one shape as earliest_static_contacts.
                 let mut one = vec![0.0; spheres.len()];
                 static_times(&store, &planes[0], query(mode), &mut one).unwrap();
                 prop_assert_eq!(one[i].is_finite().then_some(one[i]), each[0]);
+                prop_assert_eq!(time_of_impact(s, &Shape::Plane(planes[0]), query(mode)), each[0]);
                 match got[i] {
                     None => prop_assert!(best.is_infinite()),
                     Some(f) => {
                         prop_assert_eq!(f.time, best);
-                        prop_assert_eq!(f.other as usize, each.iter().position(|t| *t == Some(best)).unwrap());
+                        prop_assert_eq!(f.body.index as usize, each.iter().position(|t| *t == Some(best)).unwrap());
                     }
                 }
             }
@@ -117,10 +127,7 @@ fn padding_lanes_are_nan_and_never_hit() {
     for n in 1..=17 {
         let block = SphereStore::from_spheres(&vec![far; n]);
         assert_eq!(block.padded_len() % 8, 0);
-        let lanes = block
-            .lanes::<wide::f32x8>(block.padded_len() - 8)
-            .r
-            .to_array();
+        let lanes = *block.blocks().last().unwrap().column(Field::R).unwrap();
         let pads = block.padded_len() - n;
         assert!(
             lanes[8 - pads..].iter().all(|x| x.is_nan()),
@@ -128,11 +135,11 @@ fn padding_lanes_are_nan_and_never_hit() {
         );
         for mode in Accuracy::ALL {
             assert_eq!(
-                first_contact_against(&through_origin, &block, query(mode)),
+                earliest_sphere_contact(&through_origin, &block, query(mode)),
                 None
             );
             let containers = [Container::new([0.0; 3], 1000.0).unwrap()];
-            let hits = first_contacts(&block, &containers, query(mode)).unwrap();
+            let hits = earliest_static_contacts(&block, &containers, query(mode));
             assert_eq!(hits.len(), n);
         }
     }
@@ -170,8 +177,8 @@ fn large_batches_are_identical_for_any_thread_count() {
         pool.install(|| {
             let mut out = vec![0.0; a.len()];
             zip_times(&a, &b, query(mode), &mut out).unwrap();
-            let p = first_contacts(&all, &planes, query(mode)).unwrap();
-            let c = first_contacts(&all, &cylinders, query(mode)).unwrap();
+            let p = earliest_static_contacts(&all, &planes, query(mode));
+            let c = earliest_static_contacts(&all, &cylinders, query(mode));
             (to_bits(&out), p, c)
         })
     };
@@ -197,13 +204,17 @@ fn geometry_is_computed_for_hits_only() {
         Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0).unwrap(),
         Sphere::new([0.0, 0.0, 3.0], [1.0, 0.0, 0.0], 1.0, 1.0).unwrap(),
     ]);
-    let got = first_contacts_with_geometry(&store, &floor, query(Accuracy::Stable)).unwrap();
-    let (first, contact) = got[0].unwrap();
+    let got = earliest_static_contacts(&store, &floor, query(Accuracy::Stable).with_geometry(true));
+    let first = got[0].unwrap();
+    let contact = first.geometry.unwrap();
     assert_eq!(
         (first.time, contact.point.z, contact.normal.z),
         (2.0, 0.0, 1.0)
     );
     assert!(got[1].is_none());
+    // Without asking, no geometry.
+    let plain = earliest_static_contacts(&store, &floor, query(Accuracy::Stable));
+    assert_eq!(plain[0].unwrap().geometry, None);
 }
 
 #[test]
@@ -213,13 +224,13 @@ fn bad_arguments_are_errors() {
     let one = SphereStore::from_spheres(&[s]);
     let q = query(Accuracy::Stable);
     assert!(
-        matches!(Query::new(f32::NAN, Accuracy::Stable), Err(BatchError::Window(t)) if t.is_nan())
+        matches!(QueryOptions::new(f32::NAN, Accuracy::Stable), Err(BatchError::Window(t)) if t.is_nan())
     );
     assert!(matches!(
-        Query::new(-1.0, Accuracy::Stable),
+        QueryOptions::new(-1.0, Accuracy::Stable),
         Err(BatchError::Window(_))
     ));
-    assert!(Query::new(f32::INFINITY, Accuracy::Stable).is_ok());
+    assert!(QueryOptions::new(f32::INFINITY, Accuracy::Stable).is_ok());
     let mut out = [0.0; 2];
     assert_eq!(
         zip_times(&two, &one, q, &mut out),
@@ -251,9 +262,10 @@ fn bad_arguments_are_errors() {
 fn scene_query_matches_the_reference_on_the_demo() {
     use spheresweep::{query, reference};
     let scene = spheresweep::scene::demo();
-    let expected = reference::scene::first_contacts(&scene, 10.0);
+    let expected = reference::scene::first_contacts_brute_force(&scene, 10.0);
     for mode in Accuracy::ALL {
-        let got = query::first_contacts(&scene, Query::new(10.0, mode).unwrap(), true).unwrap();
+        let options = QueryOptions::new(10.0, mode).unwrap().with_geometry(true);
+        let got = query::first_contacts(&scene, options);
         for (g, e) in got.iter().zip(&expected) {
             match (g, e) {
                 (None, None) => {}

@@ -2,13 +2,11 @@
 //! agree outside the bands of ill-conditioning, and times agree within the per-case bound of
 //! the rounding-error model (tests/common, docs/derivations/accuracy.md).
 
-#![cfg(feature = "study")]
-
 mod common;
 
-use common::{Other, Pair, model};
+use common::{Kernel, Pair, model};
 use proptest::prelude::*;
-use spheresweep::{Accuracy, Container, Cylinder, Plane, Sphere};
+use spheresweep::{Accuracy, Container, Cylinder, Plane, Shape, Sphere};
 
 fn coord() -> impl Strategy<Value = f32> {
     -100.0f32..100.0
@@ -43,27 +41,27 @@ fn sphere_at(o: [f32; 3]) -> impl Strategy<Value = Sphere> {
 fn pairs() -> impl Strategy<Value = Pair> {
     offset().prop_flat_map(|o| {
         let other = prop_oneof![
-            sphere_at(o).prop_map(Other::Sphere),
+            sphere_at(o).prop_map(Shape::Sphere),
             (vec3(), vec3())
                 .prop_filter_map("zero normal", move |(p, n)| Plane::new(shift(p, o), n).ok())
-                .prop_map(Other::Plane),
+                .prop_map(Shape::Plane),
             (vec3(), vec3(), radius())
                 .prop_filter_map("degenerate axis", move |(a, b, r)| {
                     Cylinder::new(shift(a, o), shift(b, o), r).ok()
                 })
-                .prop_map(Other::Cylinder),
+                .prop_map(Shape::Cylinder),
             (
                 [-10.0f32..10.0, -10.0f32..10.0, -10.0f32..10.0],
                 20.0f32..300.0
             )
-                .prop_map(move |(c, r)| Other::Container(Container::new(shift(c, o), r).unwrap())),
+                .prop_map(move |(c, r)| Shape::Container(Container::new(shift(c, o), r).unwrap())),
         ];
         (sphere_at(o), other).prop_map(|(sphere, other)| Pair { sphere, other })
     })
 }
 
 fn check(pair: &Pair, mode: Accuracy, t_max: f32) -> Result<bool, TestCaseError> {
-    let reference = pair.reference(f64::from(t_max));
+    let reference = pair.time_of_impact(f64::from(t_max));
     let kernel = pair.kernel(mode, t_max);
     let m = model(pair, mode, f64::from(t_max));
     match (reference, kernel) {
@@ -107,73 +105,73 @@ fn exact_cases_in_every_mode() {
         // sphere–sphere, t = 4 (reference_cases.rs)
         (
             ball([0.0; 3], [0.0; 3], 1.0),
-            Other::Sphere(ball([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0)),
+            Shape::Sphere(ball([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0)),
             Some(4.0),
         ),
         // overlapping, approaching: 0; separating: none
         (
             ball([0.0; 3], [0.0; 3], 1.0),
-            Other::Sphere(ball([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0)),
+            Shape::Sphere(ball([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0)),
             Some(0.0),
         ),
         (
             ball([0.0; 3], [0.0; 3], 1.0),
-            Other::Sphere(ball([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0)),
+            Shape::Sphere(ball([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0)),
             None,
         ),
         // no relative motion
         (
             ball([0.0; 3], [1.0; 3], 1.0),
-            Other::Sphere(ball([0.5, 0.0, 0.0], [1.0; 3], 1.0)),
+            Shape::Sphere(ball([0.5, 0.0, 0.0], [1.0; 3], 1.0)),
             None,
         ),
         // plane from the front at 2, parallel motion never
         (
             ball([1.0, 2.0, 5.0], [0.0, 0.0, -2.0], 1.0),
-            Other::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
+            Shape::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
             Some(2.0),
         ),
         (
             ball([0.0, 0.0, 5.0], [3.0, -1.0, 0.0], 1.0),
-            Other::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
+            Shape::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()),
             None,
         ),
         // point sphere on a plane: (1 − 5)/(−2) = 2
         (
             ball([0.0, 0.0, 5.0], [1.0, 0.0, -2.0], 0.0),
-            Other::Plane(Plane::new([7.0, 7.0, 1.0], [0.0, 0.0, 1.0]).unwrap()),
+            Shape::Plane(Plane::new([7.0, 7.0, 1.0], [0.0, 0.0, 1.0]).unwrap()),
             Some(2.0),
         ),
         // cylinder at 4; along the axis never
         (
             ball([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0),
-            Other::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
+            Shape::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
             Some(4.0),
         ),
         (
             ball([1.5, 0.0, 0.0], [0.0, 0.0, 3.0], 1.0),
-            Other::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
+            Shape::Cylinder(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
             None,
         ),
         // container exits: 2 and 7; at the wall moving out: 0; too big: 0
         (
             ball([0.0; 3], [0.0, 2.0, 0.0], 1.0),
-            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Shape::Container(Container::new([0.0; 3], 5.0).unwrap()),
             Some(2.0),
         ),
         (
             ball([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0),
-            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Shape::Container(Container::new([0.0; 3], 5.0).unwrap()),
             Some(7.0),
         ),
         (
             ball([4.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0),
-            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Shape::Container(Container::new([0.0; 3], 5.0).unwrap()),
             Some(0.0),
         ),
         (
             ball([0.0; 3], [0.0; 3], 6.0),
-            Other::Container(Container::new([0.0; 3], 5.0).unwrap()),
+            Shape::Container(Container::new([0.0; 3], 5.0).unwrap()),
             Some(0.0),
         ),
     ];
@@ -202,7 +200,7 @@ proptest! {
         // Head for the plane: flip the velocity if it points away.
         let (v, vn) = if r0 * vn > 0.0 { (v.map(|x| -x), -vn) } else { (v, vn) };
         let sphere = Sphere::new(c, v, 0.0, 1.0).unwrap();
-        let pair = Pair { sphere, other: Other::Plane(plane) };
+        let pair = Pair { sphere, other: Shape::Plane(plane) };
         let t = -r0 / vn;
         for mode in [Accuracy::Stable, Accuracy::Double] {
             let x = pair.operand_scale(mode);

@@ -41,7 +41,7 @@ fn spheres_graze_when_discriminant_is_zero() {
     let c = sphere_sphere::first_contact(&a, &b, 100.0).unwrap();
     // At t = 10, B is at (0, 2, 0): touching A at (0, 1, 0); normal on A pushes it to −y.
     assert_eq!(c.time, 10.0);
-    assert_eq!(c.other.to_array(), [0.0, 2.0, 0.0]);
+    assert_eq!(c.other_anchor.to_array(), [0.0, 2.0, 0.0]);
     assert_eq!(c.point.to_array(), [0.0, 1.0, 0.0]);
     assert_eq!(c.normal.to_array(), [0.0, -1.0, 0.0]);
 }
@@ -57,7 +57,7 @@ fn spheres_take_the_smaller_of_two_positive_roots() {
     assert_eq!(q.roots().ahead().collect::<Vec<_>>(), [4.0, 6.0]);
     let c = sphere_sphere::first_contact(&a, &b, 100.0).unwrap();
     assert_eq!(
-        (c.time, c.centre.x, c.other.x, c.point.x),
+        (c.time, c.centre.x, c.other_anchor.x, c.point.x),
         (4.0, 0.0, 2.0, 1.0)
     );
     // Seed: n̂_B = (r_A − r_B)/‖…‖ = −x (our `normal`), n̂_A = −n̂_B = +x.
@@ -292,7 +292,7 @@ fn cylinder_two_roots() {
     let c = sphere_cylinder::first_contact(&s, &cyl, 10.0).unwrap();
     // At t = 4 the centre is (2, 0, 5); D⃗ = (2, 0, 0), n = +x; contact point (1, 0, 5).
     assert_eq!(c.centre.to_array(), [2.0, 0.0, 5.0]);
-    assert_eq!(c.other.to_array(), [0.0, 0.0, 5.0]);
+    assert_eq!(c.other_anchor.to_array(), [0.0, 0.0, 5.0]);
     assert_eq!(c.point.to_array(), [1.0, 0.0, 5.0]);
     assert_eq!(c.normal.to_array(), [1.0, 0.0, 0.0]);
 }

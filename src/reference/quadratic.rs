@@ -11,6 +11,8 @@
 //!   deeper (`C ≤ 0, B < 0` outside; `C ≥ 0, B > 0` inside). Touching and separating, or at
 //!   rest, is no contact.
 
+use crate::contact::Side;
+
 /// The coefficients of `A t² + B t + C = 0`, exactly as the seed defines them per pair kind.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Quadratic {
@@ -88,23 +90,12 @@ impl Roots {
     }
 }
 
-/// Which side of the contact surface the moving sphere starts on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Side {
-    /// The bodies approach from outside each other (`D = R_A + R_B`, plane, cylinder).
-    Exterior,
-    /// A sphere inside a container, reaching its wall from within (`D = R_container − R`).
-    Interior,
-}
-
-impl Side {
-    /// Already touching or past the contact distance, and moving deeper, at `t = 0`.
-    #[inline]
-    pub fn moving_deeper(self, q: &Quadratic) -> bool {
-        match self {
-            Side::Exterior => q.c <= 0.0 && q.b < 0.0,
-            Side::Interior => q.c >= 0.0 && q.b > 0.0,
-        }
+/// Already touching or past the contact distance, and moving deeper, at `t = 0`.
+#[inline]
+pub fn moving_deeper(side: Side, q: &Quadratic) -> bool {
+    match side {
+        Side::Exterior => q.c <= 0.0 && q.b < 0.0,
+        Side::Interior => q.c >= 0.0 && q.b > 0.0,
     }
 }
 
@@ -129,7 +120,7 @@ pub fn earliest_contact(q: &Quadratic, side: Side, t_max: f64) -> Option<f64> {
     };
     let t = match arrival {
         Some(t) if t > 0.0 => t,
-        _ if side.moving_deeper(q) => 0.0,
+        _ if moving_deeper(side, q) => 0.0,
         _ => return None,
     };
     (t <= t_max).then_some(t)

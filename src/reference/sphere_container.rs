@@ -4,7 +4,7 @@
 //! `D = R_container − R_sphere`; the contact is the *larger* root (the sphere arrives at the
 //! wall from inside). A sphere larger than its container (`D < 0`) touches the wall at once.
 
-use super::{Contact, Quadratic, Side, earliest_contact, unit_or};
+use super::{Contact, Quadratic, Side, earliest_contact};
 use crate::{Container, Sphere};
 
 /// `D = R_container − R_sphere`.
@@ -50,16 +50,4 @@ pub fn first_contact(s: &Sphere, k: &Container, t_max: f64) -> Option<Contact> {
     Some(contact_at(s, k, t))
 }
 
-/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
-pub fn contact_at(s: &Sphere, k: &Container, t: f64) -> Contact {
-    let r = s.centre().as_dvec3() + s.velocity().as_dvec3() * t;
-    let centre = k.centre().as_dvec3();
-    let outward = unit_or(r - centre, s.velocity().as_dvec3());
-    Contact {
-        time: t,
-        centre: r,
-        other: centre,
-        point: r + outward * f64::from(s.radius()),
-        normal: -outward,
-    }
-}
+pub use crate::contact::sphere_container_at as contact_at;

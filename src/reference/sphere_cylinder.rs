@@ -4,23 +4,9 @@
 //! the axis), `D = R_A + R_C`, `A = v·v`, `B = 2 r0·v`, `C = r0·r0 − D²`. Motion along the
 //! axis (`v = 0`) is no contact.
 
-use glam::DVec3;
-
-use super::{Contact, Quadratic, Side, earliest_contact, unit_or};
+use super::{Contact, Quadratic, Side, earliest_contact};
+use crate::contact::{perpendicular, unit_axis};
 use crate::{Cylinder, Sphere};
-
-/// `ŝ × x × ŝ = (ŝ × x) × ŝ`, the part of `x` perpendicular to the unit axis `ŝ`.
-#[inline]
-fn perpendicular(s: DVec3, x: DVec3) -> DVec3 {
-    s.cross(x).cross(s)
-}
-
-/// The stored f32 axis normalised again in f64: `‖ŝ‖ = 1` to f64 rounding, where the f32
-/// axis is off by up to one f32 rounding and `ŝ × x × ŝ` would scale by `‖ŝ‖²`.
-#[inline]
-fn unit_axis(cyl: &Cylinder) -> DVec3 {
-    cyl.axis().as_dvec3().normalize()
-}
 
 /// The seed's coefficients for a sphere and a cylinder, in f64.
 pub fn quadratic(sa: &Sphere, cyl: &Cylinder) -> Quadratic {
@@ -56,20 +42,4 @@ pub fn first_contact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<Contact>
     Some(contact_at(sa, cyl, t))
 }
 
-/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
-pub fn contact_at(sa: &Sphere, cyl: &Cylinder, t: f64) -> Contact {
-    let s = unit_axis(cyl);
-    let v_a = sa.velocity().as_dvec3();
-    let r_a = sa.centre().as_dvec3() + v_a * t;
-    let d_vec = perpendicular(s, r_a - cyl.point().as_dvec3());
-    // A point sphere on a zero-radius cylinder meets the axis: the limit direction just
-    // before contact is −v_⊥.
-    let normal = unit_or(d_vec, -perpendicular(s, v_a));
-    Contact {
-        time: t,
-        centre: r_a,
-        other: r_a - d_vec,
-        point: r_a - normal * f64::from(sa.radius()),
-        normal,
-    }
-}
+pub use crate::contact::sphere_cylinder_at as contact_at;

@@ -5,17 +5,9 @@
 //! Motion parallel to the plane (`v = 0`) is no contact; a point sphere (`R_A = 0`) has the
 //! single root `t = (r_P0 − r_A0)·n̂_P / (v_A·n̂_P)`.
 
-use glam::DVec3;
-
 use super::{Contact, Quadratic, Side, earliest_contact};
+use crate::contact::unit_normal;
 use crate::{Plane, Sphere};
-
-/// The stored f32 normal normalised again in f64: the f32 normal is unit only to one f32
-/// rounding, which would scale every distance by `‖n̂‖`.
-#[inline]
-fn unit_normal(p: &Plane) -> DVec3 {
-    p.normal().as_dvec3().normalize()
-}
 
 /// The seed's coefficients for a sphere and a plane, in f64.
 pub fn quadratic(s: &Sphere, p: &Plane) -> Quadratic {
@@ -52,27 +44,4 @@ pub fn first_contact(s: &Sphere, p: &Plane, t_max: f64) -> Option<Contact> {
     Some(contact_at(s, p, t))
 }
 
-/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
-pub fn contact_at(s: &Sphere, p: &Plane, t: f64) -> Contact {
-    let n_p = unit_normal(p);
-    let v_a = s.velocity().as_dvec3();
-    let r_a = s.centre().as_dvec3() + v_a * t;
-    let side = (r_a - p.point().as_dvec3()).dot(n_p);
-    // In front: n̂ = n̂_P; behind: −n̂_P. A point sphere's centre is on the plane at contact:
-    // it arrives from the side opposite to its motion along the normal.
-    let sign = if side > 0.0 {
-        1.0
-    } else if side < 0.0 {
-        -1.0
-    } else {
-        -v_a.dot(n_p).signum()
-    };
-    let normal = n_p * sign;
-    Contact {
-        time: t,
-        centre: r_a,
-        other: r_a - n_p * side,
-        point: r_a - normal * f64::from(s.radius()),
-        normal,
-    }
-}
+pub use crate::contact::sphere_plane_at as contact_at;

@@ -3,7 +3,7 @@
 //! `r0 = r_B0 − r_A0`, `v = v_B − v_A`, `D = R_A + R_B`,
 //! `A = v·v`, `B = 2 r0·v`, `C = r0·r0 − D²`.
 
-use super::{Contact, Quadratic, Side, earliest_contact, unit_or};
+use super::{Contact, Quadratic, Side, earliest_contact};
 use crate::Sphere;
 
 /// The seed's coefficients for two spheres, in f64.
@@ -41,21 +41,4 @@ pub fn first_contact(sa: &Sphere, sb: &Sphere, t_max: f64) -> Option<Contact> {
     Some(contact_at(sa, sb, t))
 }
 
-/// The contact geometry at time `t` (a root found by any path, reference or 8-wide).
-pub fn contact_at(sa: &Sphere, sb: &Sphere, t: f64) -> Contact {
-    let r_a = sa.centre().as_dvec3() + sa.velocity().as_dvec3() * t;
-    let r_b = sb.centre().as_dvec3() + sb.velocity().as_dvec3() * t;
-    // n̂_B = (r_A − r_B)/‖r_A − r_B‖; for two point spheres meeting head-on, the limit
-    // direction just before contact is that of v = v_B − v_A.
-    let n_b = unit_or(
-        r_a - r_b,
-        sb.velocity().as_dvec3() - sa.velocity().as_dvec3(),
-    );
-    Contact {
-        time: t,
-        centre: r_a,
-        other: r_b,
-        point: r_a - n_b * f64::from(sa.radius()),
-        normal: n_b,
-    }
-}
+pub use crate::contact::sphere_sphere_at as contact_at;

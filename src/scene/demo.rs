@@ -1,7 +1,7 @@
 //! The built-in scene of `spheresweep demo`: a vessel with a floor, a pillar and a few balls.
 
 use super::Scene;
-use crate::{Container, Cylinder, Plane, Sphere};
+use crate::{Container, Cylinder, Plane, Sphere, SphereStore};
 
 /// A small scene with every pair kind: nine spheres in a vessel of radius 10, a floor at
 /// `z = −4` and a pillar of radius 1 along `z` through `(3, 0)`.
@@ -15,7 +15,7 @@ pub fn demo() -> Scene {
         Sphere::new(c, v, r, 1.0).expect("built-in demo sphere is valid")
     };
     Scene {
-        spheres: vec![
+        spheres: SphereStore::from_spheres(&[
             // Two balls on a head-on course along x.
             sphere([-6.0, 2.0, 0.0], [2.0, 0.0, 0.0], 0.5),
             sphere([0.0, 2.0, 0.0], [-1.0, 0.0, 0.0], 0.5),
@@ -33,7 +33,7 @@ pub fn demo() -> Scene {
             sphere([-5.75, 8.0, 1.0], [0.0, -1.0, 0.0], 0.25),
             // Drifting slowly in open space: nothing within the window.
             sphere([0.0, 5.0, -2.0], [0.1, 0.0, 0.0], 0.5),
-        ],
+        ]),
         planes: vec![Plane::new([0.0, 0.0, -4.0], [0.0, 0.0, 1.0]).expect("valid floor")],
         cylinders: vec![
             Cylinder::new([3.0, 0.0, 0.0], [3.0, 0.0, 1.0], 1.0).expect("valid pillar"),

@@ -1,10 +1,23 @@
 //! The first-order rounding-error model of docs/derivations/accuracy.md, shared by the
 //! narrow-phase tests: where hit/miss may differ from the f64 reference, and by how much
-//! times may (pairs and their answers come from `spheresweep::study::Pair`).
+//! times may (pairs and their reference answers come from `spheresweep::reference::Pair`).
 
-use spheresweep::Accuracy;
-use spheresweep::reference::Side;
-pub use spheresweep::study::{Other, Pair};
+pub use spheresweep::reference::Pair;
+use spheresweep::{Accuracy, QueryOptions, Side};
+
+/// The 8-wide kernel's answer for a pair, through the public single-pair entry point (which
+/// gives the batch entry points' bits: tests/narrow_batch.rs).
+pub trait Kernel {
+    /// Time of impact in `mode` over `[0, t_max]`.
+    fn kernel(&self, mode: Accuracy, t_max: f32) -> Option<f32>;
+}
+
+impl Kernel for Pair {
+    fn kernel(&self, mode: Accuracy, t_max: f32) -> Option<f32> {
+        let options = QueryOptions::new(t_max, mode).expect("a valid window");
+        spheresweep::time_of_impact(&self.sphere, &self.other, options)
+    }
+}
 
 /// Unit roundoff of f32 and f64.
 pub const U32: f64 = 1.0 / (1u64 << 24) as f64;
@@ -29,7 +42,7 @@ pub struct Model {
 /// The model for `pair` in `mode` with the window `[0, t_max]`.
 pub fn model(pair: &Pair, mode: Accuracy, t_max: f64) -> Model {
     // The reference's root without the window: is it near the window's end?
-    let t_ref = pair.reference(f64::INFINITY);
+    let t_ref = pair.time_of_impact(f64::INFINITY);
     let (r0, v, d, side) = pair.relative();
     let x = pair.operand_scale(mode);
     let speed = pair.speed();

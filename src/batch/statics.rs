@@ -1,0 +1,232 @@
+//! Static-shape entry points: every sphere of a store against one plane, cylinder or
+//! container, or against a whole slice of them (the earliest per sphere). A slice that is
+//! empty never runs its kind's kernel.
+
+use std::marker::PhantomData;
+
+use super::driver::{LaneKernel, fill, store_lanes, with_mode};
+use super::{BatchError, FirstContact, QueryOptions, check_output};
+use crate::contact::{Body, Contact, sphere_container_at, sphere_cylinder_at, sphere_plane_at};
+use crate::kernels::quadratic::Solver;
+use crate::kernels::sphere_container::{self, ContainerLanes};
+use crate::kernels::sphere_cylinder::{self, CylinderLanes};
+use crate::kernels::sphere_plane::{self, PlaneLanes};
+use crate::lanes::Lanes;
+use crate::shape::{Container, Cylinder, Plane, ShapeKind, Sphere};
+use crate::store::{SphereLanes, SphereStore};
+
+/// A static shape kind that every sphere is tested against: [`Plane`], [`Cylinder`],
+/// [`Container`]. Sealed: the kernels behind it are the crate's own.
+pub trait StaticShape: Prepared + Sync {
+    /// Which kind of body it is.
+    const KIND: ShapeKind;
+}
+
+/// The kernel side of a [`StaticShape`], kept out of the public surface.
+mod sealed {
+    use super::{Contact, Lanes, Solver, Sphere, SphereLanes};
+
+    pub trait Prepared {
+        /// The shape splatted across lanes, prepared once per batch.
+        type Lanes<L: Lanes>: Sync;
+        /// Prepares the lanes.
+        fn prepare<L: Lanes>(&self) -> Self::Lanes<L>;
+        /// The kernel for this kind.
+        fn kernel<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &Self::Lanes<L>, t: L) -> L;
+        /// The contact geometry at time `t`.
+        fn contact_at(sphere: &Sphere, shape: &Self, t: f64) -> Contact;
+    }
+}
+pub(crate) use sealed::Prepared;
+
+macro_rules! static_shape {
+    ($t:ident, $kind:ident, $lanes:ident, $kernel:ident, $at:ident) => {
+        impl StaticShape for $t {
+            const KIND: ShapeKind = ShapeKind::$kind;
+        }
+        impl Prepared for $t {
+            type Lanes<L: Lanes> = $lanes<L>;
+            #[inline]
+            fn prepare<L: Lanes>(&self) -> $lanes<L> {
+                $lanes::splat(self)
+            }
+            #[inline(always)]
+            fn kernel<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &$lanes<L>, t: L) -> L {
+                $kernel::time_of_impact::<L, S>(s, k, t)
+            }
+            fn contact_at(sphere: &Sphere, shape: &Self, t: f64) -> Contact {
+                $at(sphere, shape, t)
+            }
+        }
+    };
+}
+static_shape!(Plane, Plane, PlaneLanes, sphere_plane, sphere_plane_at);
+static_shape!(
+    Cylinder,
+    Cylinder,
+    CylinderLanes,
+    sphere_cylinder,
+    sphere_cylinder_at
+);
+static_shape!(
+    Container,
+    Container,
+    ContainerLanes,
+    sphere_container,
+    sphere_container_at
+);
+
+struct AgainstOne<'a, L: Lanes, S, K: StaticShape> {
+    spheres: &'a SphereStore,
+    shape: K::Lanes<L>,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for AgainstOne<'_, L, S, K> {
+    type Item = f32;
+    const WIDTH: usize = L::WIDTH;
+    #[inline(always)]
+    fn write(&self, i: usize, out: &mut [f32]) {
+        let s = self.spheres.lanes(i / L::WIDTH);
+        store_lanes(K::kernel::<L, S>(&s, &self.shape, self.t_max), out);
+    }
+}
+
+/// Time of impact of every sphere of `spheres` with one static `shape`, into `out`: no
+/// allocation, the layout for a hot loop against one floor, pillar or vessel.
+///
+/// # Errors
+/// If `out` does not have one slot per sphere.
+///
+/// ```
+/// use spheresweep::{Container, QueryOptions, Sphere, SphereStore, batch::static_times};
+/// let vessel = Container::new([0.0; 3], 5.0)?;
+/// let balls = SphereStore::from_spheres(&[Sphere::new([0.0; 3], [0.0, 2.0, 0.0], 1.0, 1.0)?]);
+/// let mut out = [0.0];
+/// static_times(&balls, &vessel, QueryOptions::default(), &mut out)?;
+/// assert_eq!(out, [2.0]);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
+pub fn static_times<K: StaticShape>(
+    spheres: &SphereStore,
+    shape: &K,
+    options: QueryOptions,
+    out: &mut [f32],
+) -> Result<(), BatchError> {
+    check_output(spheres.len(), out)?;
+    fn run<L: Lanes, S: Solver, K: StaticShape>(
+        spheres: &SphereStore,
+        shape: &K,
+        t: f32,
+        out: &mut [f32],
+    ) {
+        let (t_max, shape, solver) = (L::splat(t), shape.prepare::<L>(), PhantomData::<S>);
+        let kernel = AgainstOne::<L, S, K> {
+            spheres,
+            shape,
+            t_max,
+            solver,
+        };
+        fill(out, &kernel);
+    }
+    with_mode!(
+        options.accuracy(),
+        run::<K>(spheres, shape, options.t_max(), out)
+    );
+    Ok(())
+}
+
+/// For every sphere of `spheres`, its earliest contact with any of `shapes` (ties: the
+/// lowest index), with geometry if the options ask for it. An empty slice runs no kernel.
+///
+/// # Panics
+/// Above 2³² shapes (a [`Body`] index is a `u32`; such a slice would take 96 GiB).
+///
+/// ```
+/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, batch::earliest_static_contacts};
+/// let floor = [Plane::new([0.0; 3], [0.0, 0.0, 1.0])?];
+/// let balls = SphereStore::from_spheres(&[Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0)?]);
+/// let hits = earliest_static_contacts(&balls, &floor, QueryOptions::default());
+/// assert_eq!(hits[0].unwrap().time, 2.0);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+pub fn earliest_static_contacts<K: StaticShape>(
+    spheres: &SphereStore,
+    shapes: &[K],
+    options: QueryOptions,
+) -> Vec<Option<FirstContact>> {
+    assert!(
+        u32::try_from(shapes.len()).is_ok(),
+        "at most 2^32 static shapes of one kind"
+    );
+    let mut out = vec![None; spheres.len()];
+    if shapes.is_empty() {
+        return out;
+    }
+    with_mode!(
+        options.accuracy(),
+        run_earliest::<K>(spheres, shapes, options.t_max(), &mut out)
+    );
+    if options.geometry() {
+        for (i, slot) in out.iter_mut().enumerate() {
+            if let Some(hit) = slot {
+                let sphere = spheres.get(i).expect("index below len");
+                let shape = &shapes[hit.body.index as usize];
+                hit.geometry = Some(K::contact_at(&sphere, shape, hit.time.into()));
+            }
+        }
+    }
+    out
+}
+
+/// Every sphere of a lane group against every prepared shape: the earliest, lowest index.
+/// Indices ride in integer lanes beside the times.
+struct EarliestOf<'a, L: Lanes, S, K: StaticShape> {
+    spheres: &'a SphereStore,
+    shapes: Vec<K::Lanes<L>>,
+    t_max: L,
+    solver: PhantomData<S>,
+}
+
+impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for EarliestOf<'_, L, S, K> {
+    type Item = Option<FirstContact>;
+    const WIDTH: usize = L::WIDTH;
+    #[inline(always)]
+    fn write(&self, i: usize, out: &mut [Option<FirstContact>]) {
+        let s = self.spheres.lanes::<L>(i / L::WIDTH);
+        let mut best = L::splat(f32::INFINITY);
+        let mut best_j = L::index_splat(0);
+        for (j, shape) in self.shapes.iter().enumerate() {
+            let t = K::kernel::<L, S>(&s, shape, self.t_max);
+            let sooner = t.lt(best);
+            best = L::select(sooner, t, best);
+            best_j = L::index_select(sooner, L::index_splat(j as u32), best_j);
+        }
+        let (mut times, mut which) = ([0.0f32; 8], [0u32; 8]);
+        best.store(&mut times);
+        L::index_store(best_j, &mut which);
+        for ((slot, time), j) in out.iter_mut().zip(times).zip(which) {
+            *slot = time.is_finite().then_some(FirstContact {
+                time,
+                body: Body::new(K::KIND, j),
+                geometry: None,
+            });
+        }
+    }
+}
+
+fn run_earliest<L: Lanes, S: Solver, K: StaticShape>(
+    spheres: &SphereStore,
+    shapes: &[K],
+    t: f32,
+    out: &mut [Option<FirstContact>],
+) {
+    let kernel = EarliestOf::<L, S, K> {
+        spheres,
+        shapes: shapes.iter().map(K::prepare).collect(),
+        t_max: L::splat(t),
+        solver: PhantomData,
+    };
+    fill(out, &kernel);
+}

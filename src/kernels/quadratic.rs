@@ -1,0 +1,157 @@
+//! The one quadratic solver of the narrow phase, per accuracy mode, shared by every pair kind.
+//!
+//! A pair kind describes its relative motion ([`Relative3`] for sphere pairs, containers and
+//! cylinders, [`Relative1`] for planes); a [`Solver`] turns it into the earliest admissible
+//! time per lane, with the policy of `reference::quadratic` (docs/derivations/policies.md):
+//! `+∞` where there is no contact in `[0, t_max]`. Every hit test is an ordered comparison,
+//! so a NaN lane (padding, or NaN input) never reports a hit.
+//! Why `Stable` keeps its digits: docs/derivations/accuracy.md.
+
+use crate::contact::Side;
+use crate::lanes::{Lanes, V3, cross_fused, dot, dot_fused};
+
+/// The seed's quantities of one pair kind, lane-wise, in the two forms the solvers use.
+pub trait Relative<L: Lanes> {
+    /// `(A, B, C)` exactly as the seed writes them.
+    fn textbook(&self) -> (L, L, L);
+    /// `(A, b, C, q)` with `b = B/2` and `q = b² − AC` computed without cancellation.
+    fn stable(&self) -> (L, L, L, L);
+    /// `√q` (NaN where `q < 0`).
+    #[inline(always)]
+    fn sqrt_q(&self, q: L) -> L {
+        q.sqrt()
+    }
+}
+
+/// Relative motion in 3-D: `r0`, `v` and the contact distance `D`.
+pub struct Relative3<L> {
+    /// Relative position at `t = 0`.
+    pub r0: V3<L>,
+    /// Relative velocity.
+    pub v: V3<L>,
+    /// Contact distance.
+    pub d: L,
+}
+
+/// Relative motion along one direction (a plane's normal): `R0`, `v`, `D`.
+pub struct Relative1<L> {
+    /// Signed distance at `t = 0`.
+    pub r0: L,
+    /// Velocity along the normal.
+    pub v: L,
+    /// Contact distance.
+    pub d: L,
+}
+
+impl<L: Lanes> Relative<L> for Relative3<L> {
+    #[inline(always)]
+    fn textbook(&self) -> (L, L, L) {
+        let Relative3 { r0, v, d } = *self;
+        (dot(v, v), L::splat(2.0) * dot(r0, v), dot(r0, r0) - d * d)
+    }
+
+    #[inline(always)]
+    fn stable(&self) -> (L, L, L, L) {
+        let Relative3 { r0, v, d } = *self;
+        let a = dot_fused(v, v);
+        let b = dot_fused(r0, v);
+        let d2 = d * d;
+        let c = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], r0[2].mul_add(r0[2], -d2)));
+        // Lagrange: b² − AC = (r0·v)² − ‖v‖²(‖r0‖² − D²) = A D² − ‖r0 × v‖².
+        let w = cross_fused(r0, v);
+        (a, b, c, a.mul_add(d2, -dot_fused(w, w)))
+    }
+}
+
+impl<L: Lanes> Relative<L> for Relative1<L> {
+    #[inline(always)]
+    fn textbook(&self) -> (L, L, L) {
+        let Relative1 { r0, v, d } = *self;
+        (v * v, L::splat(2.0) * r0 * v, r0 * r0 - d * d)
+    }
+
+    #[inline(always)]
+    fn stable(&self) -> (L, L, L, L) {
+        let Relative1 { r0, v, d } = *self;
+        let a = v * v;
+        // C = (|R0| − D)(|R0| + D): the difference is exact when |R0| is near D (Sterbenz).
+        let c = (r0.abs() - d) * (r0.abs() + d);
+        // b² − AC = R0²v² − v²(R0² − D²) = v² D² exactly: never negative.
+        (a, r0 * v, c, a * (d * d))
+    }
+
+    /// `√(v² D²) = |v| D`: no square root, one rounding.
+    #[inline(always)]
+    fn sqrt_q(&self, _q: L) -> L {
+        self.v.abs() * self.d
+    }
+}
+
+/// An accuracy mode's way to find the earliest admissible root.
+pub trait Solver: Sync {
+    /// Whether the mode is the seed's formula literally: anchors as given, `ŝ × x × ŝ`.
+    const LITERAL: bool;
+    /// The earliest admissible time per lane, `+∞` where there is none.
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L;
+}
+
+/// The seed's formula, literally: `B² − 4AC`, `(−B ∓ √disc)/2A`.
+#[derive(Debug, Clone, Copy)]
+pub struct Textbook;
+
+/// Half-`B`, `q = A D² − ‖r0 × v‖²`, and each root in the form without cancellation.
+#[derive(Debug, Clone, Copy)]
+pub struct Stable;
+
+impl Solver for Textbook {
+    const LITERAL: bool = true;
+
+    #[inline(always)]
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L {
+        let (a, b, c) = rel.textbook();
+        let zero = L::splat(0.0);
+        let disc = b * b - L::splat(4.0) * a * c;
+        let sqrt = disc.sqrt();
+        let two_a = L::splat(2.0) * a;
+        let moving = a.gt(zero);
+        let (root, deeper) = match side {
+            Side::Exterior => ((-b - sqrt) / two_a, c.le(zero) & b.lt(zero)),
+            Side::Interior => ((-b + sqrt) / two_a, c.ge(zero) & b.gt(zero)),
+        };
+        let ahead = moving & disc.ge(zero) & root.gt(zero);
+        let t = L::select(ahead, root, zero);
+        let hit = (ahead | (moving & deeper)) & t.le(t_max);
+        L::select(hit, t, L::splat(f32::INFINITY))
+    }
+}
+
+impl Solver for Stable {
+    const LITERAL: bool = false;
+
+    #[inline(always)]
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L {
+        let (a, b, c, q) = rel.stable();
+        let zero = L::splat(0.0);
+        let sqrt = rel.sqrt_q(q);
+        let moving = a.gt(zero);
+        let (t, hit) = match side {
+            Side::Exterior => {
+                // Only an approaching pair (b < 0) can arrive; then t1 = C / (−b + √q) adds
+                // two positive terms. C ≤ 0 (touching or overlapping): t = 0.
+                let touching = c.le(zero);
+                let t = L::select(touching, zero, c / (sqrt - b));
+                (t, moving & b.lt(zero) & (touching | q.ge(zero)))
+            }
+            Side::Interior => {
+                // t2 = (−b + √q)/A if b ≤ 0, else C/(−b − √q): never a difference of
+                // like-signed terms. Select numerator and denominator, then divide once.
+                let outwards = b.gt(zero);
+                let root = L::select(outwards, c, sqrt - b) / L::select(outwards, -b - sqrt, a);
+                let ahead = moving & q.ge(zero) & root.gt(zero);
+                let deeper = moving & c.ge(zero) & b.gt(zero);
+                (L::select(ahead, root, zero), ahead | deeper)
+            }
+        };
+        L::select(hit & t.le(t_max), t, L::splat(f32::INFINITY))
+    }
+}

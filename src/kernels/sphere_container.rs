@@ -1,0 +1,48 @@
+//! Spheres inside a container: `r0 = r_sphere0 − r_container`, `v = v_sphere`,
+//! `D = R_container − R_sphere`, the larger root.
+
+use super::quadratic::{Relative3, Solver};
+use crate::Container;
+use crate::contact::Side;
+use crate::lanes::{Lanes, V3, sub};
+use crate::store::SphereLanes;
+
+/// One container in every lane.
+#[derive(Debug, Clone, Copy)]
+pub struct ContainerLanes<L> {
+    /// Centre.
+    pub c: V3<L>,
+    /// Inner radius.
+    pub r: L,
+}
+
+impl<L: Lanes> ContainerLanes<L> {
+    /// The container in every lane.
+    #[inline]
+    pub fn splat(k: &Container) -> Self {
+        let c = k.centre();
+        Self {
+            c: [L::splat(c.x), L::splat(c.y), L::splat(c.z)],
+            r: L::splat(k.radius()),
+        }
+    }
+}
+
+/// Earliest time per lane at which the sphere reaches the wall, `+∞` for none. A sphere
+/// larger than the container touches it at `t = 0`.
+#[inline(always)]
+pub fn time_of_impact<L: Lanes, S: Solver>(
+    s: &SphereLanes<L>,
+    k: &ContainerLanes<L>,
+    t_max: L,
+) -> L {
+    let d = k.r - s.r;
+    let rel = Relative3 {
+        r0: sub(s.c, k.c),
+        v: s.v,
+        d,
+    };
+    let t = S::arrival(&rel, Side::Interior, t_max);
+    let zero = L::splat(0.0);
+    L::select(d.lt(zero) & zero.le(t_max), zero, t)
+}

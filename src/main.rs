@@ -1,7 +1,0 @@
-//! The `spheresweep` command-line tool.
-
-mod cli;
-
-fn main() -> std::process::ExitCode {
-    cli::run()
-}
