@@ -91,7 +91,7 @@ impl SphereBlock {
 /// assert_eq!(store.to_spheres(), spheres);
 /// # Ok::<(), spheresweep::ShapeError>(())
 /// ```
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct SphereStore {
     len: usize,
     blocks: Vec<SphereBlock>,
@@ -337,6 +337,14 @@ impl SphereStore {
             g.r[k] = b.r[lane];
         }
         SphereLanes::load(&g, 0)
+    }
+}
+
+/// Two stores are equal when they hold equal spheres in the same order (the NaN padding
+/// lanes, which would make every padded store unequal to itself, are not compared).
+impl PartialEq for SphereStore {
+    fn eq(&self, other: &Self) -> bool {
+        self.len == other.len && self.iter().eq(other.iter())
     }
 }
 
