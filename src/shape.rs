@@ -274,6 +274,38 @@ impl Cylinder {
             radius,
         })
     }
+    /// The infinite cylinder whose axis passes through `point` along `direction` (any non-zero
+    /// length; normalised here in f64, then rounded once to f32).
+    ///
+    /// Prefer this form far from the origin: `Cylinder::new(p, p + s, r)` rounds `p + s` to f32
+    /// first, and near `|p| = 10⁵` that alone tilts a unit axis by up to `|p|·2⁻²⁴ ≈ 6·10⁻³`.
+    ///
+    /// # Errors
+    /// A [`ShapeError`] if a value is NaN or infinite, the radius is negative, or `direction`
+    /// is zero (field `"axis"`).
+    ///
+    /// ```
+    /// use spheresweep::Cylinder;
+    /// let pillar = Cylinder::from_axis([1e5, 0.0, 0.0], [0.0, 0.0, 2.0], 1.0)?;
+    /// assert_eq!(pillar.axis().to_array(), [0.0, 0.0, 1.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
+    pub fn from_axis(
+        point: [f32; 3],
+        direction: [f32; 3],
+        radius: f32,
+    ) -> Result<Self, ShapeError> {
+        const K: ShapeKind = ShapeKind::Cylinder;
+        let point = finite_vec(K, "point", point)?;
+        let direction = finite_vec(K, "axis", direction)?;
+        let radius = self::radius(K, radius)?;
+        let axis = unit(K, "axis", direction.as_dvec3())?;
+        Ok(Self {
+            point,
+            axis,
+            radius,
+        })
+    }
     /// A point on the axis (`r_C1`).
     #[inline]
     pub fn point(&self) -> Vec3 {

@@ -138,3 +138,39 @@ fn container_fields() {
         Problem::NotFinite,
     );
 }
+
+#[test]
+fn cylinder_from_a_point_and_a_direction() {
+    use ShapeKind::Cylinder as C;
+    let c = Cylinder::from_axis([1e5, 2.0, 3.0], [0.0, 3.0, 4.0], 0.5).unwrap();
+    assert_eq!(c.point().to_array(), [1e5, 2.0, 3.0]);
+    assert_eq!(c.axis().to_array(), [0.0, 0.6, 0.8]);
+    // The two-point form rounds p + s first: the axis tilts far from the origin.
+    let two = Cylinder::new([1e5, 0.0, 0.0], [1e5 + 0.001, 0.0, 1.0], 0.5).unwrap();
+    let exact = Cylinder::from_axis([1e5, 0.0, 0.0], [0.001, 0.0, 1.0], 0.5).unwrap();
+    assert!((two.axis() - exact.axis()).length() > 1e-3);
+    check(
+        Cylinder::from_axis([0.0; 3], [0.0; 3], 1.0),
+        C,
+        "axis",
+        Problem::ZeroLength,
+    );
+    check(
+        Cylinder::from_axis([f32::NAN, 0.0, 0.0], [0.0, 0.0, 1.0], 1.0),
+        C,
+        "point",
+        Problem::NotFinite,
+    );
+    check(
+        Cylinder::from_axis([0.0; 3], [0.0, f32::INFINITY, 0.0], 1.0),
+        C,
+        "axis",
+        Problem::NotFinite,
+    );
+    check(
+        Cylinder::from_axis([0.0; 3], [0.0, 0.0, 1.0], -1.0),
+        C,
+        "radius",
+        Problem::Negative,
+    );
+}
