@@ -214,3 +214,108 @@ proptest! {
         }
     }
 }
+
+/// `pair` with every position and radius multiplied by `2^kx` and every velocity by `2^kv`
+/// (powers of two: exact in f32 while the values stay finite and normal), or `None` when a
+/// value would overflow or lose bits to underflow.
+fn scaled(pair: &Pair, kx: i32, kv: i32) -> Option<Pair> {
+    let (sx, sv) = (2f32.powi(kx), 2f32.powi(kv));
+    let ok = |x: f32, s: f32| {
+        let y = x * s;
+        (y.is_finite() && (y == 0.0 || y.is_normal()) && y / s == x).then_some(y)
+    };
+    let v3 = |v: glam::Vec3, s: f32| Some([ok(v.x, s)?, ok(v.y, s)?, ok(v.z, s)?]);
+    let s = &pair.sphere;
+    let sphere = Sphere::new(
+        v3(s.centre(), sx)?,
+        v3(s.velocity(), sv)?,
+        ok(s.radius(), sx)?,
+        1.0,
+    )
+    .ok()?;
+    let other = match pair.other {
+        Shape::Sphere(b) => Shape::Sphere(
+            Sphere::new(
+                v3(b.centre(), sx)?,
+                v3(b.velocity(), sv)?,
+                ok(b.radius(), sx)?,
+                1.0,
+            )
+            .ok()?,
+        ),
+        Shape::Plane(p) => {
+            Shape::Plane(Plane::new(v3(p.point(), sx)?, p.normal().to_array()).ok()?)
+        }
+        Shape::Cylinder(c) => Shape::Cylinder(
+            Cylinder::from_axis(v3(c.point(), sx)?, c.axis().to_array(), ok(c.radius(), sx)?)
+                .ok()?,
+        ),
+        Shape::Container(k) => {
+            Shape::Container(Container::new(v3(k.centre(), sx)?, ok(k.radius(), sx)?).ok()?)
+        }
+    };
+    Some(Pair { sphere, other })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(20000))]
+
+    /// Every scale from 2⁻¹²⁰ to 2¹²⁰ (about 10⁻³⁶ … 10³⁶): positions and radii, velocities,
+    /// or both together. The f64 reference holds every such input exactly; each mode either
+    /// stays in the f32 range where its rounding model holds or answers the lane in f64, so
+    /// the same error model bounds it at every scale — no wrong hit/miss outside the band, no
+    /// time (a false `t = 0` included) outside the bound.
+    #[test]
+    fn kernels_agree_with_the_reference_at_every_scale(
+        pair in pairs(),
+        kx in -120i32..=120,
+        kv in -120i32..=120,
+        which in 0u8..3,
+    ) {
+        let (kx, kv) = match which {
+            0 => (kx, kx),  // everything together: times unchanged
+            1 => (kx, 0),   // positions and radii alone
+            _ => (0, kv),   // speeds alone
+        };
+        let Some(pair) = scaled(&pair, kx, kv) else { return Ok(()) };
+        let t_max = 10f32 * 2f32.powi(kx - kv);
+        prop_assume!(t_max.is_normal());
+        for mode in Accuracy::ALL {
+            check(&pair, mode, t_max)?;
+        }
+    }
+}
+
+/// A sphere touching the inside of its container and moving exactly tangentially, and one that
+/// fits exactly and moves: `g(t) = A t² + C` grows at once, so both leave the vessel at once
+/// (docs/derivations/policies.md). Every mode and the reference say `t = 0`.
+#[test]
+fn tangential_and_exact_fit_container_contacts_are_at_zero() {
+    let vessel = Shape::Container(Container::new([0.0; 3], 5.0).unwrap());
+    let cases = [
+        Sphere::new([4.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.0, 1.0).unwrap(),
+        Sphere::new([0.0; 3], [0.0, 0.0, 3.0], 5.0, 1.0).unwrap(),
+        Sphere::new([1e-3, 0.0, 0.0], [0.0, 2.0, 0.0], 5.0, 1.0).unwrap(),
+    ];
+    for sphere in cases {
+        let pair = Pair {
+            sphere,
+            other: vessel,
+        };
+        assert_eq!(pair.time_of_impact(10.0), Some(0.0), "{pair:?}");
+        for mode in Accuracy::ALL {
+            assert_eq!(pair.kernel(mode, 10.0), Some(0.0), "{mode} {pair:?}");
+        }
+    }
+    // Outside, the same tangential motion separates: no contact.
+    let ball = Shape::Sphere(Sphere::new([2.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0).unwrap());
+    let tangent = Sphere::new([0.0; 3], [0.0, 1.0, 0.0], 1.0, 1.0).unwrap();
+    let pair = Pair {
+        sphere: tangent,
+        other: ball,
+    };
+    assert_eq!(pair.time_of_impact(10.0), None);
+    for mode in Accuracy::ALL {
+        assert_eq!(pair.kernel(mode, 10.0), None, "{mode}");
+    }
+}

@@ -4,11 +4,10 @@
 use std::marker::PhantomData;
 
 use super::driver::{LaneKernel, fill, store_lanes, with_mode};
-use super::statics::Prepared;
 use super::{BatchError, FirstContact, QueryOptions, check_output};
 use crate::contact::{Body, contact_at};
 use crate::kernels::quadratic::Solver;
-use crate::kernels::sphere_sphere;
+use crate::kernels::{StaticKernel, against_static, sphere_pair};
 use crate::lanes::Lanes;
 use crate::shape::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
 use crate::store::{SphereLanes, SphereStore};
@@ -27,7 +26,7 @@ impl<L: Lanes, S: Solver> LaneKernel for Zip<'_, L, S> {
     fn write(&self, i: usize, out: &mut [f32]) {
         let g = i / L::WIDTH;
         store_lanes(
-            sphere_sphere::time_of_impact::<L, S>(&self.a.lanes(g), &self.b.lanes(g), self.t_max),
+            sphere_pair::<L, S>(&self.a.lanes(g), &self.b.lanes(g), self.t_max),
             out,
         );
     }
@@ -48,10 +47,7 @@ impl<L: Lanes, S: Solver> LaneKernel for Listed<'_, L, S> {
         let group = &self.pairs[i..i + out.len()];
         let a = self.store.gather::<L>(group.iter().map(|p| p[0] as usize));
         let b = self.store.gather::<L>(group.iter().map(|p| p[1] as usize));
-        store_lanes(
-            sphere_sphere::time_of_impact::<L, S>(&a, &b, self.t_max),
-            out,
-        );
+        store_lanes(sphere_pair::<L, S>(&a, &b, self.t_max), out);
     }
 }
 
@@ -68,10 +64,7 @@ impl<L: Lanes, S: Solver> LaneKernel for OneAgainst<'_, L, S> {
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
         let block = self.block.lanes(i / L::WIDTH);
-        store_lanes(
-            sphere_sphere::time_of_impact::<L, S>(&self.one, &block, self.t_max),
-            out,
-        );
+        store_lanes(sphere_pair::<L, S>(&self.one, &block, self.t_max), out);
     }
 }
 
@@ -247,12 +240,12 @@ pub fn time_of_impact(sphere: &Sphere, other: &Shape, options: QueryOptions) -> 
     fn one<L: Lanes, S: Solver>(s: &Sphere, other: &Shape, t: f32) -> f32 {
         let (a, t_max) = (SphereLanes::<L>::splat(s), L::splat(t));
         let lanes = match other {
-            Shape::Sphere(b) => {
-                sphere_sphere::time_of_impact::<L, S>(&a, &SphereLanes::splat(b), t_max)
+            Shape::Sphere(b) => sphere_pair::<L, S>(&a, &SphereLanes::splat(b), t_max),
+            Shape::Plane(p) => against_static::<L, S, Plane>(&a, &p.prepare::<L>(), p, t_max),
+            Shape::Cylinder(c) => against_static::<L, S, Cylinder>(&a, &c.prepare::<L>(), c, t_max),
+            Shape::Container(k) => {
+                against_static::<L, S, Container>(&a, &k.prepare::<L>(), k, t_max)
             }
-            Shape::Plane(p) => Plane::kernel::<L, S>(&a, &p.prepare::<L>(), t_max),
-            Shape::Cylinder(c) => Cylinder::kernel::<L, S>(&a, &c.prepare::<L>(), t_max),
-            Shape::Container(k) => Container::kernel::<L, S>(&a, &k.prepare::<L>(), t_max),
         };
         let mut out = [0.0f32; 8];
         lanes.store(&mut out);

@@ -6,78 +6,33 @@ use std::marker::PhantomData;
 
 use super::driver::{LaneKernel, fill, store_lanes, with_mode};
 use super::{BatchError, FirstContact, QueryOptions, check_output};
-use crate::contact::{Body, Contact, sphere_container_at, sphere_cylinder_at, sphere_plane_at};
+use crate::contact::{Body, contact_at};
 use crate::kernels::quadratic::Solver;
-use crate::kernels::sphere_container::{self, ContainerLanes};
-use crate::kernels::sphere_cylinder::{self, CylinderLanes};
-use crate::kernels::sphere_plane::{self, PlaneLanes};
+use crate::kernels::{StaticKernel, against_static};
 use crate::lanes::Lanes;
-use crate::shape::{Container, Cylinder, Plane, ShapeKind, Sphere};
-use crate::store::{SphereLanes, SphereStore};
+use crate::shape::{Container, Cylinder, Plane, Shape, ShapeKind};
+use crate::store::SphereStore;
 
 /// A static shape kind that every sphere is tested against: [`Plane`], [`Cylinder`],
 /// [`Container`]. Sealed: the kernels behind it are the crate's own.
-pub trait StaticShape: Prepared + Sync {
+pub trait StaticShape: StaticKernel + Copy + Into<Shape> + Sync {
     /// Which kind of body it is.
     const KIND: ShapeKind;
 }
 
-/// The kernel side of a [`StaticShape`], kept out of the public surface.
-mod sealed {
-    use super::{Contact, Lanes, Solver, Sphere, SphereLanes};
-
-    pub trait Prepared {
-        /// The shape splatted across lanes, prepared once per batch.
-        type Lanes<L: Lanes>: Sync;
-        /// Prepares the lanes.
-        fn prepare<L: Lanes>(&self) -> Self::Lanes<L>;
-        /// The kernel for this kind.
-        fn kernel<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &Self::Lanes<L>, t: L) -> L;
-        /// The contact geometry at time `t`.
-        fn contact_at(sphere: &Sphere, shape: &Self, t: f64) -> Contact;
-    }
+impl StaticShape for Plane {
+    const KIND: ShapeKind = ShapeKind::Plane;
 }
-pub(crate) use sealed::Prepared;
-
-macro_rules! static_shape {
-    ($t:ident, $kind:ident, $lanes:ident, $kernel:ident, $at:ident) => {
-        impl StaticShape for $t {
-            const KIND: ShapeKind = ShapeKind::$kind;
-        }
-        impl Prepared for $t {
-            type Lanes<L: Lanes> = $lanes<L>;
-            #[inline]
-            fn prepare<L: Lanes>(&self) -> $lanes<L> {
-                $lanes::splat(self)
-            }
-            #[inline(always)]
-            fn kernel<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &$lanes<L>, t: L) -> L {
-                $kernel::time_of_impact::<L, S>(s, k, t)
-            }
-            fn contact_at(sphere: &Sphere, shape: &Self, t: f64) -> Contact {
-                $at(sphere, shape, t)
-            }
-        }
-    };
+impl StaticShape for Cylinder {
+    const KIND: ShapeKind = ShapeKind::Cylinder;
 }
-static_shape!(Plane, Plane, PlaneLanes, sphere_plane, sphere_plane_at);
-static_shape!(
-    Cylinder,
-    Cylinder,
-    CylinderLanes,
-    sphere_cylinder,
-    sphere_cylinder_at
-);
-static_shape!(
-    Container,
-    Container,
-    ContainerLanes,
-    sphere_container,
-    sphere_container_at
-);
+impl StaticShape for Container {
+    const KIND: ShapeKind = ShapeKind::Container;
+}
 
 struct AgainstOne<'a, L: Lanes, S, K: StaticShape> {
     spheres: &'a SphereStore,
+    original: &'a K,
     shape: K::Lanes<L>,
     t_max: L,
     solver: PhantomData<S>,
@@ -89,7 +44,8 @@ impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for AgainstOne<'_, L, S, K>
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
         let s = self.spheres.lanes(i / L::WIDTH);
-        store_lanes(K::kernel::<L, S>(&s, &self.shape, self.t_max), out);
+        let t = against_static::<L, S, K>(&s, &self.shape, self.original, self.t_max);
+        store_lanes(t, out);
     }
 }
 
@@ -121,10 +77,11 @@ pub fn static_times<K: StaticShape>(
         t: f32,
         out: &mut [f32],
     ) {
-        let (t_max, shape, solver) = (L::splat(t), shape.prepare::<L>(), PhantomData::<S>);
+        let (t_max, solver) = (L::splat(t), PhantomData::<S>);
         let kernel = AgainstOne::<L, S, K> {
             spheres,
-            shape,
+            original: shape,
+            shape: shape.prepare::<L>(),
             t_max,
             solver,
         };
@@ -173,7 +130,7 @@ pub fn earliest_static_contacts<K: StaticShape>(
             if let Some(hit) = slot {
                 let sphere = spheres.get(i).expect("index below len");
                 let shape = &shapes[hit.body.index as usize];
-                hit.geometry = Some(K::contact_at(&sphere, shape, hit.time.into()));
+                hit.geometry = Some(contact_at(&sphere, &(*shape).into(), hit.time.into()));
             }
         }
     }
@@ -184,6 +141,7 @@ pub fn earliest_static_contacts<K: StaticShape>(
 /// Indices ride in integer lanes beside the times.
 struct EarliestOf<'a, L: Lanes, S, K: StaticShape> {
     spheres: &'a SphereStore,
+    originals: &'a [K],
     shapes: Vec<K::Lanes<L>>,
     t_max: L,
     solver: PhantomData<S>,
@@ -197,8 +155,8 @@ impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for EarliestOf<'_, L, S, K>
         let s = self.spheres.lanes::<L>(i / L::WIDTH);
         let mut best = L::splat(f32::INFINITY);
         let mut best_j = L::index_splat(0);
-        for (j, shape) in self.shapes.iter().enumerate() {
-            let t = K::kernel::<L, S>(&s, shape, self.t_max);
+        for (j, (shape, original)) in self.shapes.iter().zip(self.originals).enumerate() {
+            let t = against_static::<L, S, K>(&s, shape, original, self.t_max);
             let sooner = t.lt(best);
             best = L::select(sooner, t, best);
             best_j = L::index_select(sooner, L::index_splat(j as u32), best_j);
@@ -224,6 +182,7 @@ fn run_earliest<L: Lanes, S: Solver, K: StaticShape>(
 ) {
     let kernel = EarliestOf::<L, S, K> {
         spheres,
+        originals: shapes,
         shapes: shapes.iter().map(K::prepare).collect(),
         t_max: L::splat(t),
         solver: PhantomData,

@@ -21,6 +21,33 @@ pub trait Relative<L: Lanes> {
     fn sqrt_q(&self, q: L) -> L {
         q.sqrt()
     }
+    /// Mask of the lanes whose magnitudes leave the range where f32 arithmetic keeps its
+    /// relative precision (no overflow, no subnormal intermediate): those are answered again
+    /// in f64 (docs/derivations/range.md). Never set for f64 lanes, which hold every
+    /// intermediate of every finite f32 input.
+    fn at_risk(&self) -> L;
+}
+
+/// The safe window of the f32 kernels: `2⁻⁹⁰ ≤ m, A, A·m ≤ 2¹²⁰`, with `m = ‖r0‖² + D²` and
+/// `A = ‖v‖²`, unless `v = 0` exactly (no motion: never a contact, whatever the scale).
+/// Every intermediate of the quadratic is then a normal f32 of size at most `3·2¹²⁰`, and
+/// every time lies within `2^±105`.
+const SAFE_LO: f32 = 1.0 / (1u128 << 90) as f32;
+const SAFE_HI: f32 = (1u128 << 120) as f32;
+
+#[inline(always)]
+fn outside_safe_range<L: Lanes>(a: L, m: L, v_is_zero: L) -> L {
+    if L::EXACT_DIFFERENCES {
+        return L::splat(0.0);
+    }
+    let (lo, hi) = (L::splat(SAFE_LO), L::splat(SAFE_HI));
+    let inside = |x: L| x.ge(lo) & x.le(hi);
+    let safe = v_is_zero | (inside(a) & inside(m) & inside(a * m));
+    // `safe` is false for NaN (padding lanes): those never hit in either precision, so only a
+    // finite lane counts as at risk.
+    let (none, all) = (L::splat(0.0), L::splat(f32::from_bits(u32::MAX)));
+    let nan_free = m.eq(m) & a.eq(a);
+    L::select(safe, none, all) & nan_free
 }
 
 /// Relative motion in 3-D: `r0`, `v` and the contact distance `D`.
@@ -43,6 +70,50 @@ pub struct Relative1<L> {
     pub d: L,
 }
 
+/// Relative motion in the plane perpendicular to a cylinder's axis: 2-D `r0`, `v`, `D`.
+pub struct Relative2<L> {
+    /// Relative position at `t = 0`, in the axis' perpendicular frame.
+    pub r0: [L; 2],
+    /// Relative velocity, in the same frame.
+    pub v: [L; 2],
+    /// Contact distance.
+    pub d: L,
+}
+
+impl<L: Lanes> Relative<L> for Relative2<L> {
+    #[inline(always)]
+    fn textbook(&self) -> (L, L, L) {
+        let Relative2 { r0, v, d } = *self;
+        let dot2 = |x: [L; 2], y: [L; 2]| x[0] * y[0] + x[1] * y[1];
+        (
+            dot2(v, v),
+            L::splat(2.0) * dot2(r0, v),
+            dot2(r0, r0) - d * d,
+        )
+    }
+
+    #[inline(always)]
+    fn stable(&self) -> (L, L, L, L) {
+        let Relative2 { r0, v, d } = *self;
+        let a = v[0].mul_add(v[0], v[1] * v[1]);
+        let b = r0[0].mul_add(v[0], r0[1] * v[1]);
+        let d2 = d * d;
+        let c = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], -d2));
+        // Lagrange in 2-D: b² − AC = A D² − (r0 × v)², with the scalar cross product.
+        let w = r0[0].mul_add(v[1], -(r0[1] * v[0]));
+        (a, b, c, a.mul_add(d2, -(w * w)))
+    }
+
+    #[inline(always)]
+    fn at_risk(&self) -> L {
+        let Relative2 { r0, v, d } = *self;
+        let zero = L::splat(0.0);
+        let a = v[0].mul_add(v[0], v[1] * v[1]);
+        let m = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], d * d));
+        outside_safe_range(a, m, v[0].eq(zero) & v[1].eq(zero))
+    }
+}
+
 impl<L: Lanes> Relative<L> for Relative3<L> {
     #[inline(always)]
     fn textbook(&self) -> (L, L, L) {
@@ -60,6 +131,15 @@ impl<L: Lanes> Relative<L> for Relative3<L> {
         // Lagrange: b² − AC = (r0·v)² − ‖v‖²(‖r0‖² − D²) = A D² − ‖r0 × v‖².
         let w = cross_fused(r0, v);
         (a, b, c, a.mul_add(d2, -dot_fused(w, w)))
+    }
+
+    #[inline(always)]
+    fn at_risk(&self) -> L {
+        let Relative3 { r0, v, d } = *self;
+        let zero = L::splat(0.0);
+        let v_is_zero = v[0].eq(zero) & v[1].eq(zero) & v[2].eq(zero);
+        let m = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], r0[2].mul_add(r0[2], d * d)));
+        outside_safe_range(dot_fused(v, v), m, v_is_zero)
     }
 }
 
@@ -84,6 +164,12 @@ impl<L: Lanes> Relative<L> for Relative1<L> {
     #[inline(always)]
     fn sqrt_q(&self, _q: L) -> L {
         self.v.abs() * self.d
+    }
+
+    #[inline(always)]
+    fn at_risk(&self) -> L {
+        let Relative1 { r0, v, d } = *self;
+        outside_safe_range(v * v, r0.mul_add(r0, d * d), v.eq(L::splat(0.0)))
     }
 }
 
@@ -116,7 +202,8 @@ impl Solver for Textbook {
         let moving = a.gt(zero);
         let (root, deeper) = match side {
             Side::Exterior => ((-b - sqrt) / two_a, c.le(zero) & b.lt(zero)),
-            Side::Interior => ((-b + sqrt) / two_a, c.ge(zero) & b.gt(zero)),
+            // Inside: C ≥ 0 and B ≥ 0 with A > 0 (B = 0: g(t) = A t² + C grows at once).
+            Side::Interior => ((-b + sqrt) / two_a, c.ge(zero) & b.ge(zero)),
         };
         let ahead = moving & disc.ge(zero) & root.gt(zero);
         let t = L::select(ahead, root, zero);
@@ -148,7 +235,8 @@ impl Solver for Stable {
                 let outwards = b.gt(zero);
                 let root = L::select(outwards, c, sqrt - b) / L::select(outwards, -b - sqrt, a);
                 let ahead = moving & q.ge(zero) & root.gt(zero);
-                let deeper = moving & c.ge(zero) & b.gt(zero);
+                // B = 0 with A > 0 moves deeper too: g(t) = A t² + C grows at once.
+                let deeper = moving & c.ge(zero) & b.ge(zero);
                 (L::select(ahead, root, zero), ahead | deeper)
             }
         };

@@ -1,7 +1,7 @@
 //! Spheres inside a container: `r0 = r_sphere0 − r_container`, `v = v_sphere`,
 //! `D = R_container − R_sphere`, the larger root.
 
-use super::quadratic::{Relative3, Solver};
+use super::quadratic::{Relative, Relative3, Solver};
 use crate::Container;
 use crate::contact::Side;
 use crate::lanes::{Lanes, V3, sub};
@@ -28,14 +28,15 @@ impl<L: Lanes> ContainerLanes<L> {
     }
 }
 
-/// Earliest time per lane at which the sphere reaches the wall, `+∞` for none. A sphere
-/// larger than the container touches it at `t = 0`.
+/// Earliest time per lane at which the sphere reaches the wall, `+∞` for none; and the mask
+/// of lanes outside the f32 kernels' safe range. A sphere larger than the container touches
+/// it at `t = 0`.
 #[inline(always)]
 pub fn time_of_impact<L: Lanes, S: Solver>(
     s: &SphereLanes<L>,
     k: &ContainerLanes<L>,
     t_max: L,
-) -> L {
+) -> (L, L) {
     let d = k.r - s.r;
     let rel = Relative3 {
         r0: sub(s.c, k.c),
@@ -44,5 +45,8 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
     };
     let t = S::arrival(&rel, Side::Interior, t_max);
     let zero = L::splat(0.0);
-    L::select(d.lt(zero) & zero.le(t_max), zero, t)
+    let larger = d.lt(zero);
+    // A sphere larger than its vessel is answered at once in either precision.
+    let t = L::select(larger & zero.le(t_max), zero, t);
+    (t, L::select(larger, zero, rel.at_risk()))
 }

@@ -1,21 +1,58 @@
 //! Sphere–cylinder: `r0 = ŝ × (r_A0 − r_C1) × ŝ`, `v = ŝ × v_A × ŝ`, `D = R_A + R_C`.
+//!
+//! `Stable` in f32 works in the plane perpendicular to the axis: two unit vectors `ê₁`, `ê₂`
+//! with `ŝ` (from f64) give `r0 = (r_A0·ê_k − r_C1·ê_k)ₖ`, each a compensated dot product with
+//! hi + lo frame and offsets, as for planes (docs/derivations/accuracy.md, "Compensated
+//! offsets"). `Textbook` is the literal double cross product; f64 lanes subtract exactly.
 
-use super::quadratic::{Relative3, Solver};
+use glam::DVec3;
+
+use super::quadratic::{Relative, Relative2, Relative3, Solver};
+use super::sphere_plane::split;
 use crate::Cylinder;
 use crate::contact::Side;
-use crate::lanes::{Lanes, V3, cross, reject_fused, sub};
+use crate::lanes::{Lanes, V3, cross, dot_fused, dot_minus_compensated, reject_fused, sub};
 use crate::store::SphereLanes;
 
-/// One cylinder in every lane: its anchor as given, its foot (the axis point nearest the
-/// origin, computed in f64) and its unit axis, normalised again in the lane precision.
+/// One perpendicular direction of a cylinder's frame, hi + lo, with the axis point's offset
+/// along it.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameAxis<L> {
+    /// `ê`, rounded to the lane precision.
+    pub e: V3<L>,
+    /// `ê − e`, rounded.
+    pub e_lo: V3<L>,
+    /// `r_C1·ê`, rounded.
+    pub off: L,
+    /// `r_C1·ê − off`, rounded.
+    pub off_lo: L,
+}
+
+impl<L: Lanes> FrameAxis<L> {
+    fn new(e: DVec3, point: DVec3) -> Self {
+        let (x, y, z) = (split::<L>(e.x), split::<L>(e.y), split::<L>(e.z));
+        let (off, off_lo) = split::<L>(point.dot(e));
+        Self {
+            e: [x.0, y.0, z.0],
+            e_lo: [x.1, y.1, z.1],
+            off,
+            off_lo,
+        }
+    }
+}
+
+/// One cylinder in every lane: its anchor as given, its unit axis (normalised in f64 and
+/// rounded to the lane precision), the perpendicular frame, and its radius.
 #[derive(Debug, Clone, Copy)]
 pub struct CylinderLanes<L> {
     /// `r_C1` as given.
     pub point: V3<L>,
-    /// `r_C1 − (r_C1·ŝ) ŝ`.
-    pub foot: V3<L>,
     /// `ŝ`.
     pub s: V3<L>,
+    /// `ê₁ ⟂ ŝ`.
+    pub e1: FrameAxis<L>,
+    /// `ê₂ = ŝ × ê₁`.
+    pub e2: FrameAxis<L>,
     /// `R_C`.
     pub r: L,
 }
@@ -25,45 +62,64 @@ impl<L: Lanes> CylinderLanes<L> {
     #[inline]
     pub fn splat(c: &Cylinder) -> Self {
         let point = c.point();
-        let s = c.axis().as_dvec3().normalize();
+        let s = crate::contact::unit_axis(c);
+        // ê₁ from the coordinate axis least aligned with ŝ: well away from parallel.
+        let helper = if s.x.abs() <= s.y.abs() && s.x.abs() <= s.z.abs() {
+            DVec3::X
+        } else if s.y.abs() <= s.z.abs() {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        let e1 = s.cross(helper).normalize();
+        let e2 = s.cross(e1);
         let p = point.as_dvec3();
-        let foot = p - s * p.dot(s);
         Self {
             point: [L::splat(point.x), L::splat(point.y), L::splat(point.z)],
-            foot: [L::splat64(foot.x), L::splat64(foot.y), L::splat64(foot.z)],
             s: [L::splat64(s.x), L::splat64(s.y), L::splat64(s.z)],
+            e1: FrameAxis::new(e1, p),
+            e2: FrameAxis::new(e2, p),
             r: L::splat(c.radius()),
         }
     }
 }
 
-/// Earliest contact time per lane with the cylinder, `+∞` for none.
+/// Earliest contact time per lane with the cylinder, `+∞` for none; and the mask of lanes
+/// outside the f32 kernels' safe range.
 #[inline(always)]
 pub fn time_of_impact<L: Lanes, S: Solver>(
     a: &SphereLanes<L>,
     cyl: &CylinderLanes<L>,
     t_max: L,
-) -> L {
+) -> (L, L) {
     let d = a.r + cyl.r;
     let s = cyl.s;
-    let rel = if S::LITERAL {
+    if S::LITERAL || L::EXACT_DIFFERENCES {
         let x = sub(a.c, cyl.point);
-        Relative3 {
-            r0: cross(cross(s, x), s),
-            v: cross(cross(s, a.v), s),
-            d,
-        }
-    } else {
-        let anchor = if L::EXACT_DIFFERENCES {
-            cyl.point
+        let rel = if S::LITERAL {
+            Relative3 {
+                r0: cross(cross(s, x), s),
+                v: cross(cross(s, a.v), s),
+                d,
+            }
         } else {
-            cyl.foot
+            Relative3 {
+                r0: reject_fused(x, s),
+                v: reject_fused(a.v, s),
+                d,
+            }
         };
-        Relative3 {
-            r0: reject_fused(sub(a.c, anchor), s),
-            v: reject_fused(a.v, s),
+        (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+    } else {
+        let (e1, e2) = (&cyl.e1, &cyl.e2);
+        let rel = Relative2 {
+            r0: [
+                dot_minus_compensated(a.c, e1.e, e1.e_lo, e1.off, e1.off_lo),
+                dot_minus_compensated(a.c, e2.e, e2.e_lo, e2.off, e2.off_lo),
+            ],
+            v: [dot_fused(a.v, e1.e), dot_fused(a.v, e2.e)],
             d,
-        }
-    };
-    S::arrival(&rel, Side::Exterior, t_max)
+        };
+        (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+    }
 }

@@ -1,58 +1,84 @@
 //! Sphere–plane: `R0 = (r_A0 − r_P0)·n̂_P`, `v = v_A·n̂_P`, `D = R_A`.
+//!
+//! `Stable` in f32 measures `R0 = r_A0·n̂ − r_P0·n̂` with the plane's offset `r_P0·n̂` and its
+//! normal each carried as two f32 (hi + lo) and a compensated dot product: `R0` comes out
+//! nearly correctly rounded wherever the sphere, the plane's point and the origin are
+//! (docs/derivations/accuracy.md, "Compensated offsets"). `Textbook` is the literal formula;
+//! f64 lanes subtract exactly.
 
-use super::quadratic::{Relative1, Solver};
+use super::quadratic::{Relative, Relative1, Solver};
 use crate::Plane;
 use crate::contact::Side;
-use crate::lanes::{Lanes, V3, dot, dot_fused, sub};
+use crate::lanes::{Lanes, V3, dot, dot_fused, dot_minus_compensated, sub};
 use crate::store::SphereLanes;
 
-/// One plane in every lane, with its point as given and its foot (the plane's point nearest
-/// the origin, computed in f64), which the f32 `Stable` mode uses instead of a far anchor.
-/// The normal is normalised again in the lane precision (exactly unit in f64 lanes).
+/// One plane in every lane: its point as given, its unit normal (normalised in f64) as the
+/// lane rounding `n` plus the rest `n_lo`, and the offset `r_P0·n̂` (f64) as `off + off_lo`.
 #[derive(Debug, Clone, Copy)]
 pub struct PlaneLanes<L> {
     /// `r_P0` as given.
     pub point: V3<L>,
-    /// `(r_P0·n̂) n̂`, the point of the plane nearest the origin.
-    pub foot: V3<L>,
-    /// Unit normal.
+    /// Unit normal, rounded to the lane precision.
     pub n: V3<L>,
+    /// `n̂ − n`, rounded.
+    pub n_lo: V3<L>,
+    /// `r_P0·n̂`, rounded.
+    pub off: L,
+    /// `r_P0·n̂ − off`, rounded.
+    pub off_lo: L,
+}
+
+/// `x` as a lane rounding and the rounded rest.
+#[inline]
+pub(crate) fn split<L: Lanes>(x: f64) -> (L, L) {
+    let hi = x as f32;
+    (L::splat64(x), L::splat64(x - f64::from(hi)))
 }
 
 impl<L: Lanes> PlaneLanes<L> {
     /// The plane in every lane.
     #[inline]
     pub fn splat(p: &Plane) -> Self {
-        let (point, n) = (p.point(), p.normal().as_dvec3().normalize());
-        let foot = n * point.as_dvec3().dot(n);
+        let point = p.point();
+        let n = crate::contact::unit_normal(p);
+        let (nx, ny, nz) = (split::<L>(n.x), split::<L>(n.y), split::<L>(n.z));
+        let (off, off_lo) = split::<L>(point.as_dvec3().dot(n));
         Self {
             point: [L::splat(point.x), L::splat(point.y), L::splat(point.z)],
-            foot: [L::splat64(foot.x), L::splat64(foot.y), L::splat64(foot.z)],
-            n: [L::splat64(n.x), L::splat64(n.y), L::splat64(n.z)],
+            n: [nx.0, ny.0, nz.0],
+            n_lo: [nx.1, ny.1, nz.1],
+            off,
+            off_lo,
         }
     }
 }
 
-/// Earliest contact time per lane with the plane (either side), `+∞` for none.
+/// Earliest contact time per lane with the plane (either side), `+∞` for none; and the mask
+/// of lanes outside the f32 kernels' safe range.
 #[inline(always)]
-pub fn time_of_impact<L: Lanes, S: Solver>(s: &SphereLanes<L>, p: &PlaneLanes<L>, t_max: L) -> L {
+pub fn time_of_impact<L: Lanes, S: Solver>(
+    s: &SphereLanes<L>,
+    p: &PlaneLanes<L>,
+    t_max: L,
+) -> (L, L) {
     let rel = if S::LITERAL {
         Relative1 {
             r0: dot(sub(s.c, p.point), p.n),
             v: dot(s.v, p.n),
             d: s.r,
         }
-    } else {
-        let anchor = if L::EXACT_DIFFERENCES {
-            p.point
-        } else {
-            p.foot
-        };
+    } else if L::EXACT_DIFFERENCES {
         Relative1 {
-            r0: dot_fused(sub(s.c, anchor), p.n),
+            r0: dot_fused(sub(s.c, p.point), p.n),
+            v: dot_fused(s.v, p.n),
+            d: s.r,
+        }
+    } else {
+        Relative1 {
+            r0: dot_minus_compensated(s.c, p.n, p.n_lo, p.off, p.off_lo),
             v: dot_fused(s.v, p.n),
             d: s.r,
         }
     };
-    S::arrival(&rel, Side::Exterior, t_max)
+    (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
 }

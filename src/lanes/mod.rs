@@ -48,6 +48,16 @@ pub trait Lanes:
     fn ge(self, o: Self) -> Self;
     /// `if mask { t } else { f }` lane by lane.
     fn select(mask: Self, t: Self, f: Self) -> Self;
+    /// Mask of `self == o` (false for NaN).
+    fn eq(self, o: Self) -> Self;
+    /// Whether any lane of the mask is set.
+    fn any(self) -> bool;
+    /// The lanes widened exactly to f64, four at a time (`[lo, hi]`; an `f64x4` gives itself
+    /// twice).
+    fn halves(self) -> [f64x4; 2];
+    /// Lanes from f64 halves, rounded once to the lane precision (the inverse of
+    /// [`halves`](Lanes::halves)).
+    fn from_halves(h: [f64x4; 2]) -> Self;
     /// Integer lanes as wide as the float lanes, for indices.
     type Index: Copy + Send + Sync;
     /// Every index lane set to `j`.
@@ -114,6 +124,30 @@ macro_rules! impl_lanes {
             #[inline(always)]
             fn select(mask: Self, t: Self, f: Self) -> Self {
                 mask.select(t, f)
+            }
+            #[inline(always)]
+            fn eq(self, o: Self) -> Self {
+                self.simd_eq(o)
+            }
+            #[inline(always)]
+            fn any(self) -> bool {
+                <$t>::any(self)
+            }
+            #[inline(always)]
+            fn halves(self) -> [f64x4; 2] {
+                let x = self.to_array();
+                let w = $width;
+                [
+                    f64x4::new(std::array::from_fn(|k| f64::from(x[k % w]))),
+                    f64x4::new(std::array::from_fn(|k| f64::from(x[(4 + k) % w]))),
+                ]
+            }
+            #[inline(always)]
+            fn from_halves(h: [f64x4; 2]) -> Self {
+                let (lo, hi) = (h[0].to_array(), h[1].to_array());
+                <$t>::new(std::array::from_fn(|k| {
+                    (if k < 4 { lo[k] } else { hi[k - 4] }) as $scalar
+                }))
             }
             #[inline(always)]
             fn index_splat(j: u32) -> $index {
@@ -188,4 +222,36 @@ pub fn cross_fused<L: Lanes>(a: V3<L>, b: V3<L>) -> V3<L> {
         a[2].mul_add(b[0], -(a[0] * b[2])),
         a[0].mul_add(b[1], -(a[1] * b[0])),
     ]
+}
+
+/// `(p, e)` with `p = a·b` rounded and `a·b = p + e` exactly (one FMA; x86-64-v3 has it).
+#[inline(always)]
+fn two_product<L: Lanes>(a: L, b: L) -> (L, L) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+/// `(s, e)` with `s = a + b` rounded and `a + b = s + e` exactly (Knuth's TwoSum: no
+/// ordering of `|a|`, `|b|` needed).
+#[inline(always)]
+fn two_sum<L: Lanes>(a: L, b: L) -> (L, L) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `x·(n_hi + n_lo) − (d_hi + d_lo)` as if computed in twice the lane precision, then rounded
+/// once more: Ogita, Rump & Oishi's Dot2 with FMA products. The error is at most about
+/// `u |result| + 3u² (|x||n| + |d|)`, so a small distance measured from far-off coordinates
+/// keeps its digits (docs/derivations/accuracy.md, "Compensated offsets").
+#[inline(always)]
+pub fn dot_minus_compensated<L: Lanes>(x: V3<L>, n_hi: V3<L>, n_lo: V3<L>, d_hi: L, d_lo: L) -> L {
+    let (p0, e0) = two_product(x[0], n_hi[0]);
+    let (p1, e1) = two_product(x[1], n_hi[1]);
+    let (p2, e2) = two_product(x[2], n_hi[2]);
+    let (s, t0) = two_sum(p0, p1);
+    let (s, t1) = two_sum(s, p2);
+    let (s, t2) = two_sum(s, -d_hi);
+    let small = dot_fused(x, n_lo) - d_lo;
+    s + (((e0 + e1) + (e2 + t0)) + ((t1 + t2) + small))
 }

@@ -74,32 +74,22 @@ impl Pair {
     }
 
     /// `X`: the size of the position-like operands `mode`'s kernel subtracts (its absolute
-    /// rounding scale; see docs/derivations/accuracy.md).
+    /// rounding scale; see docs/derivations/accuracy.md). `stable` measures a plane's or a
+    /// cylinder's `r0` with compensated dot products: its rounding scale is `|r0|` plus a
+    /// second-order `2⁻²⁰(|c| + |r_P0|)` ("Compensated offsets").
     pub fn operand_scale(&self, mode: Accuracy) -> f64 {
         let c = self.sphere.centre().as_dvec3();
-        let moved = mode == Accuracy::Stable;
+        let compensated = |point: DVec3| {
+            let (r0, ..) = self.relative();
+            r0.length() + (c.length() + point.length()) * 2f64.powi(-20)
+        };
         match &self.other {
             Shape::Sphere(b) => (b.centre().as_dvec3() - c).length(),
             Shape::Container(k) => (c - k.centre().as_dvec3()).length(),
-            Shape::Plane(p) => {
-                let (n, point) = (p.normal().as_dvec3(), p.point().as_dvec3());
-                let foot = n * point.dot(n);
-                if moved {
-                    (c - foot).length() + foot.length()
-                } else {
-                    (c - point).length()
-                }
-            }
-            Shape::Cylinder(cy) => {
-                let s_ = cy.axis().as_dvec3().normalize();
-                let point = cy.point().as_dvec3();
-                let foot = point - s_ * point.dot(s_);
-                if moved {
-                    (c - foot).length() + foot.length()
-                } else {
-                    (c - point).length()
-                }
-            }
+            Shape::Plane(p) if mode == Accuracy::Stable => compensated(p.point().as_dvec3()),
+            Shape::Cylinder(cy) if mode == Accuracy::Stable => compensated(cy.point().as_dvec3()),
+            Shape::Plane(p) => (c - p.point().as_dvec3()).length(),
+            Shape::Cylinder(cy) => (c - cy.point().as_dvec3()).length(),
         }
     }
 

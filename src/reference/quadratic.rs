@@ -8,8 +8,8 @@
 //! - A root `t > 0` inside the window is the contact. A grazing contact (`B² − 4AC = 0`)
 //!   counts.
 //! - At `t = 0` there is a contact only if the bodies already touch or overlap **and** move
-//!   deeper (`C ≤ 0, B < 0` outside; `C ≥ 0, B > 0` inside). Touching and separating, or at
-//!   rest, is no contact.
+//!   deeper (`C ≤ 0, B < 0` outside; `C ≥ 0` and `B > 0`, or `B = 0` with `A > 0`, inside).
+//!   Touching and separating, or at rest, is no contact.
 
 use crate::contact::Side;
 
@@ -90,12 +90,15 @@ impl Roots {
     }
 }
 
-/// Already touching or past the contact distance, and moving deeper, at `t = 0`.
+/// Already touching or past the contact distance, and moving deeper, at `t = 0`. Inside a
+/// container `B = 0` with `A > 0` counts: `g(t) = A t² + C` grows at once (a sphere touching
+/// the wall and moving tangentially, or fitting exactly and moving, leaves at once). Outside,
+/// the same case separates.
 #[inline]
 pub fn moving_deeper(side: Side, q: &Quadratic) -> bool {
     match side {
         Side::Exterior => q.c <= 0.0 && q.b < 0.0,
-        Side::Interior => q.c >= 0.0 && q.b > 0.0,
+        Side::Interior => q.c >= 0.0 && (q.b > 0.0 || (q.b == 0.0 && q.a > 0.0)),
     }
 }
 

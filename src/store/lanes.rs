@@ -1,6 +1,8 @@
 //! A store's spheres as the kernels read them: one lane group, loaded from a block.
 
 use super::SphereBlock;
+use wide::f64x4;
+
 use crate::lanes::{Lanes, V3};
 use crate::shape::Sphere;
 
@@ -42,5 +44,19 @@ impl<L: Lanes> SphereLanes<L> {
             ],
             r: L::load8(&b.r, lane),
         }
+    }
+
+    /// The same spheres widened exactly to two groups of f64 lanes (for the f64 rescue of
+    /// lanes outside the f32 safe range).
+    #[inline]
+    pub fn halves(&self) -> [SphereLanes<f64x4>; 2] {
+        let [c0, c1, c2] = self.c.map(L::halves);
+        let [v0, v1, v2] = self.v.map(L::halves);
+        let r = self.r.halves();
+        [0, 1].map(|h| SphereLanes {
+            c: [c0[h], c1[h], c2[h]],
+            v: [v0[h], v1[h], v2[h]],
+            r: r[h],
+        })
     }
 }
