@@ -25,10 +25,9 @@ impl<L: Lanes, S: Solver> LaneKernel for Zip<'_, L, S> {
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
         let g = i / L::WIDTH;
-        store_lanes(
-            sphere_pair::<L, S>(&self.a.lanes(g), &self.b.lanes(g), self.t_max),
-            out,
-        );
+        let reload = || [self.a.lanes(g), self.b.lanes(g)];
+        let t = sphere_pair::<L, S>(&self.a.lanes(g), &self.b.lanes(g), self.t_max, reload);
+        store_lanes(t, out);
     }
 }
 
@@ -45,9 +44,13 @@ impl<L: Lanes, S: Solver> LaneKernel for Listed<'_, L, S> {
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
         let group = &self.pairs[i..i + out.len()];
-        let a = self.store.gather::<L>(group.iter().map(|p| p[0] as usize));
-        let b = self.store.gather::<L>(group.iter().map(|p| p[1] as usize));
-        store_lanes(sphere_pair::<L, S>(&a, &b, self.t_max), out);
+        let gather = |k: usize| {
+            self.store
+                .gather::<L>(group.iter().map(move |p| p[k] as usize))
+        };
+        let reload = || [gather(0), gather(1)];
+        let t = sphere_pair::<L, S>(&gather(0), &gather(1), self.t_max, reload);
+        store_lanes(t, out);
     }
 }
 
@@ -63,8 +66,10 @@ impl<L: Lanes, S: Solver> LaneKernel for OneAgainst<'_, L, S> {
     const WIDTH: usize = L::WIDTH;
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
-        let block = self.block.lanes(i / L::WIDTH);
-        store_lanes(sphere_pair::<L, S>(&self.one, &block, self.t_max), out);
+        let g = i / L::WIDTH;
+        let reload = || [self.one, self.block.lanes(g)];
+        let t = sphere_pair::<L, S>(&self.one, &self.block.lanes(g), self.t_max, reload);
+        store_lanes(t, out);
     }
 }
 
@@ -240,11 +245,16 @@ pub fn time_of_impact(sphere: &Sphere, other: &Shape, options: QueryOptions) -> 
     fn one<L: Lanes, S: Solver>(s: &Sphere, other: &Shape, t: f32) -> f32 {
         let (a, t_max) = (SphereLanes::<L>::splat(s), L::splat(t));
         let lanes = match other {
-            Shape::Sphere(b) => sphere_pair::<L, S>(&a, &SphereLanes::splat(b), t_max),
-            Shape::Plane(p) => against_static::<L, S, Plane>(&a, &p.prepare::<L>(), p, t_max),
-            Shape::Cylinder(c) => against_static::<L, S, Cylinder>(&a, &c.prepare::<L>(), c, t_max),
+            Shape::Sphere(b) => {
+                let b = SphereLanes::splat(b);
+                sphere_pair::<L, S>(&a, &b, t_max, || [a, b])
+            }
+            Shape::Plane(p) => against_static::<L, S, Plane>(&a, &p.prepare::<L>(), p, t_max, || a),
+            Shape::Cylinder(c) => {
+                against_static::<L, S, Cylinder>(&a, &c.prepare::<L>(), c, t_max, || a)
+            }
             Shape::Container(k) => {
-                against_static::<L, S, Container>(&a, &k.prepare::<L>(), k, t_max)
+                against_static::<L, S, Container>(&a, &k.prepare::<L>(), k, t_max, || a)
             }
         };
         let mut out = [0.0f32; 8];

@@ -43,8 +43,10 @@ impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for AgainstOne<'_, L, S, K>
     const WIDTH: usize = L::WIDTH;
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [f32]) {
-        let s = self.spheres.lanes(i / L::WIDTH);
-        let t = against_static::<L, S, K>(&s, &self.shape, self.original, self.t_max);
+        let g = i / L::WIDTH;
+        let reload = || self.spheres.lanes(g);
+        let t =
+            against_static::<L, S, K>(&reload(), &self.shape, self.original, self.t_max, reload);
         store_lanes(t, out);
     }
 }
@@ -152,11 +154,13 @@ impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for EarliestOf<'_, L, S, K>
     const WIDTH: usize = L::WIDTH;
     #[inline(always)]
     fn write(&self, i: usize, out: &mut [Option<FirstContact>]) {
-        let s = self.spheres.lanes::<L>(i / L::WIDTH);
+        let g = i / L::WIDTH;
+        let s = self.spheres.lanes::<L>(g);
         let mut best = L::splat(f32::INFINITY);
         let mut best_j = L::index_splat(0);
         for (j, (shape, original)) in self.shapes.iter().zip(self.originals).enumerate() {
-            let t = against_static::<L, S, K>(&s, shape, original, self.t_max);
+            let reload = || self.spheres.lanes::<L>(g);
+            let t = against_static::<L, S, K>(&s, shape, original, self.t_max, reload);
             let sooner = t.lt(best);
             best = L::select(sooner, t, best);
             best_j = L::index_select(sooner, L::index_splat(j as u32), best_j);

@@ -56,12 +56,20 @@ static_kernel!(Cylinder, CylinderLanes, sphere_cylinder);
 static_kernel!(Container, ContainerLanes, sphere_container);
 
 /// Times of impact of sphere pairs per lane: the mode's kernel, with the lanes outside the
-/// f32 safe range answered again in f64 (never silently wrong at any scale).
+/// f32 safe range answered again in f64 (never silently wrong at any scale). `reload` gives
+/// the same lanes again from memory, only on that rare path, so the hot loop keeps them in
+/// registers.
 #[inline(always)]
-pub fn sphere_pair<L: Lanes, S: Solver>(a: &SphereLanes<L>, b: &SphereLanes<L>, t_max: L) -> L {
+pub fn sphere_pair<L: Lanes, S: Solver>(
+    a: &SphereLanes<L>,
+    b: &SphereLanes<L>,
+    t_max: L,
+    reload: impl FnOnce() -> [SphereLanes<L>; 2],
+) -> L {
     let (t, risk) = sphere_sphere::time_of_impact::<L, S>(a, b, t_max);
     if risk.any() {
-        L::select(risk, rescue_pair(a, b, t_max), t)
+        let [a, b] = reload();
+        L::select(risk, rescue_pair(&a, &b, t_max), t)
     } else {
         t
     }
@@ -75,10 +83,11 @@ pub fn against_static<L: Lanes, S: Solver, K: StaticKernel>(
     prepared: &K::Lanes<L>,
     shape: &K,
     t_max: L,
+    reload: impl FnOnce() -> SphereLanes<L>,
 ) -> L {
     let (t, risk) = K::raw::<L, S>(s, prepared, t_max);
     if risk.any() {
-        L::select(risk, rescue_static(s, shape, t_max), t)
+        L::select(risk, rescue_static(&reload(), shape, t_max), t)
     } else {
         t
     }

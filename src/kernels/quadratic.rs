@@ -21,11 +21,15 @@ pub trait Relative<L: Lanes> {
     fn sqrt_q(&self, q: L) -> L {
         q.sqrt()
     }
-    /// Mask of the lanes whose magnitudes leave the range where f32 arithmetic keeps its
-    /// relative precision (no overflow, no subnormal intermediate): those are answered again
-    /// in f64 (docs/derivations/range.md). Never set for f64 lanes, which hold every
-    /// intermediate of every finite f32 input.
-    fn at_risk(&self) -> L;
+    /// The velocity's components OR-ed bit by bit: `0` (or `−0`) exactly when `v = 0`.
+    fn v_bits(&self) -> L;
+    /// `D²`, as the solvers compute it.
+    fn d2(&self) -> L {
+        let d = self.d();
+        d * d
+    }
+    /// Contact distance.
+    fn d(&self) -> L;
 }
 
 /// The safe window of the f32 kernels: `2⁻⁹⁰ ≤ m, A, A·m ≤ 2¹²⁰`, with `m = ‖r0‖² + D²` and
@@ -35,19 +39,25 @@ pub trait Relative<L: Lanes> {
 const SAFE_LO: f32 = 1.0 / (1u128 << 90) as f32;
 const SAFE_HI: f32 = (1u128 << 120) as f32;
 
+/// Mask of the lanes whose magnitudes leave the range where f32 arithmetic keeps its relative
+/// precision (no overflow, no subnormal intermediate): those are answered again in f64
+/// (docs/derivations/range.md). `m = C + 2D² ≈ ‖r0‖² + D²` within a factor two is all the
+/// test needs. Never set for f64 lanes, which hold every intermediate of every finite f32
+/// input. NaN lanes (padding, or an overflow's `∞ − ∞`) count as at risk: the f64 answer for
+/// padding is no contact too.
 #[inline(always)]
-fn outside_safe_range<L: Lanes>(a: L, m: L, v_is_zero: L) -> L {
+fn at_risk<L: Lanes>(a: L, c: L, d2: L, v_bits: L) -> L {
     if L::EXACT_DIFFERENCES {
         return L::splat(0.0);
     }
-    let (lo, hi) = (L::splat(SAFE_LO), L::splat(SAFE_HI));
-    let inside = |x: L| x.ge(lo) & x.le(hi);
-    let safe = v_is_zero | (inside(a) & inside(m) & inside(a * m));
-    // `safe` is false for NaN (padding lanes): those never hit in either precision, so only a
-    // finite lane counts as at risk.
-    let (none, all) = (L::splat(0.0), L::splat(f32::from_bits(u32::MAX)));
-    let nan_free = m.eq(m) & a.eq(a);
-    L::select(safe, none, all) & nan_free
+    let (lo, hi, zero) = (L::splat(SAFE_LO), L::splat(SAFE_HI), L::splat(0.0));
+    let m = d2.mul_add(L::splat(2.0), c);
+    let p = a * m;
+    // v = 0 exactly: no motion, never a contact, at any scale (its A and A·m are exempt).
+    let slowest = L::select(v_bits.eq(zero), lo, a.min(p)).min(m);
+    // `≤` is false for NaN: an overflow's ∞ − ∞ (or a padding lane) counts as at risk.
+    let safe = slowest.ge(lo) & m.le(hi) & p.le(hi);
+    L::select(safe, zero, L::splat(f32::from_bits(u32::MAX)))
 }
 
 /// Relative motion in 3-D: `r0`, `v` and the contact distance `D`.
@@ -105,12 +115,13 @@ impl<L: Lanes> Relative<L> for Relative2<L> {
     }
 
     #[inline(always)]
-    fn at_risk(&self) -> L {
-        let Relative2 { r0, v, d } = *self;
-        let zero = L::splat(0.0);
-        let a = v[0].mul_add(v[0], v[1] * v[1]);
-        let m = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], d * d));
-        outside_safe_range(a, m, v[0].eq(zero) & v[1].eq(zero))
+    fn v_bits(&self) -> L {
+        self.v[0] | self.v[1]
+    }
+
+    #[inline(always)]
+    fn d(&self) -> L {
+        self.d
     }
 }
 
@@ -134,12 +145,13 @@ impl<L: Lanes> Relative<L> for Relative3<L> {
     }
 
     #[inline(always)]
-    fn at_risk(&self) -> L {
-        let Relative3 { r0, v, d } = *self;
-        let zero = L::splat(0.0);
-        let v_is_zero = v[0].eq(zero) & v[1].eq(zero) & v[2].eq(zero);
-        let m = r0[0].mul_add(r0[0], r0[1].mul_add(r0[1], r0[2].mul_add(r0[2], d * d)));
-        outside_safe_range(dot_fused(v, v), m, v_is_zero)
+    fn v_bits(&self) -> L {
+        self.v[0] | self.v[1] | self.v[2]
+    }
+
+    #[inline(always)]
+    fn d(&self) -> L {
+        self.d
     }
 }
 
@@ -167,9 +179,13 @@ impl<L: Lanes> Relative<L> for Relative1<L> {
     }
 
     #[inline(always)]
-    fn at_risk(&self) -> L {
-        let Relative1 { r0, v, d } = *self;
-        outside_safe_range(v * v, r0.mul_add(r0, d * d), v.eq(L::splat(0.0)))
+    fn v_bits(&self) -> L {
+        self.v
+    }
+
+    #[inline(always)]
+    fn d(&self) -> L {
+        self.d
     }
 }
 
@@ -177,8 +193,9 @@ impl<L: Lanes> Relative<L> for Relative1<L> {
 pub trait Solver: Sync {
     /// Whether the mode is the seed's formula literally: anchors as given, `ŝ × x × ŝ`.
     const LITERAL: bool;
-    /// The earliest admissible time per lane, `+∞` where there is none.
-    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L;
+    /// The earliest admissible time per lane, `+∞` where there is none; and the mask of the
+    /// lanes outside the f32 safe range (docs/derivations/range.md).
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> (L, L);
 }
 
 /// The seed's formula, literally: `B² − 4AC`, `(−B ∓ √disc)/2A`.
@@ -193,8 +210,9 @@ impl Solver for Textbook {
     const LITERAL: bool = true;
 
     #[inline(always)]
-    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L {
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> (L, L) {
         let (a, b, c) = rel.textbook();
+        let risk = at_risk(a, c, rel.d2(), rel.v_bits());
         let zero = L::splat(0.0);
         let disc = b * b - L::splat(4.0) * a * c;
         let sqrt = disc.sqrt();
@@ -208,7 +226,7 @@ impl Solver for Textbook {
         let ahead = moving & disc.ge(zero) & root.gt(zero);
         let t = L::select(ahead, root, zero);
         let hit = (ahead | (moving & deeper)) & t.le(t_max);
-        L::select(hit, t, L::splat(f32::INFINITY))
+        (L::select(hit, t, L::splat(f32::INFINITY)), risk)
     }
 }
 
@@ -216,8 +234,9 @@ impl Solver for Stable {
     const LITERAL: bool = false;
 
     #[inline(always)]
-    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> L {
+    fn arrival<L: Lanes, R: Relative<L>>(rel: &R, side: Side, t_max: L) -> (L, L) {
         let (a, b, c, q) = rel.stable();
+        let risk = at_risk(a, c, rel.d2(), rel.v_bits());
         let zero = L::splat(0.0);
         let sqrt = rel.sqrt_q(q);
         let moving = a.gt(zero);
@@ -240,6 +259,7 @@ impl Solver for Stable {
                 (L::select(ahead, root, zero), ahead | deeper)
             }
         };
-        L::select(hit & t.le(t_max), t, L::splat(f32::INFINITY))
+        let t = L::select(hit & t.le(t_max), t, L::splat(f32::INFINITY));
+        (t, risk)
     }
 }

@@ -1,7 +1,7 @@
 //! Spheres inside a container: `r0 = r_sphere0 − r_container`, `v = v_sphere`,
 //! `D = R_container − R_sphere`, the larger root.
 
-use super::quadratic::{Relative, Relative3, Solver};
+use super::quadratic::{Relative3, Solver};
 use crate::Container;
 use crate::contact::Side;
 use crate::lanes::{Lanes, V3, sub};
@@ -43,10 +43,10 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
         v: s.v,
         d,
     };
-    let t = S::arrival(&rel, Side::Interior, t_max);
+    let (t, risk) = S::arrival(&rel, Side::Interior, t_max);
     let zero = L::splat(0.0);
     let larger = d.lt(zero);
     // A sphere larger than its vessel is answered at once in either precision.
     let t = L::select(larger & zero.le(t_max), zero, t);
-    (t, L::select(larger, zero, rel.at_risk()))
+    (t, L::select(larger, zero, risk))
 }

@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use super::quadratic::{Relative, Relative2, Relative3, Solver};
+use super::quadratic::{Relative2, Relative3, Solver};
 use super::sphere_plane::split;
 use crate::Cylinder;
 use crate::contact::Side;
@@ -109,7 +109,7 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
                 d,
             }
         };
-        (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+        S::arrival(&rel, Side::Exterior, t_max)
     } else {
         let (e1, e2) = (&cyl.e1, &cyl.e2);
         let rel = Relative2 {
@@ -120,6 +120,6 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
             v: [dot_fused(a.v, e1.e), dot_fused(a.v, e2.e)],
             d,
         };
-        (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+        S::arrival(&rel, Side::Exterior, t_max)
     }
 }

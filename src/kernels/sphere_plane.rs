@@ -6,7 +6,7 @@
 //! (docs/derivations/accuracy.md, "Compensated offsets"). `Textbook` is the literal formula;
 //! f64 lanes subtract exactly.
 
-use super::quadratic::{Relative, Relative1, Solver};
+use super::quadratic::{Relative1, Solver};
 use crate::Plane;
 use crate::contact::Side;
 use crate::lanes::{Lanes, V3, dot, dot_fused, dot_minus_compensated, sub};
@@ -80,5 +80,5 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
             d: s.r,
         }
     };
-    (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+    S::arrival(&rel, Side::Exterior, t_max)
 }

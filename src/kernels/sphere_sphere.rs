@@ -1,7 +1,7 @@
 //! Sphere–sphere, eight (or four) pairs at once: `r0 = r_B0 − r_A0`, `v = v_B − v_A`,
 //! `D = R_A + R_B`.
 
-use super::quadratic::{Relative, Relative3, Solver};
+use super::quadratic::{Relative3, Solver};
 use crate::contact::Side;
 use crate::lanes::{Lanes, sub};
 use crate::store::SphereLanes;
@@ -19,5 +19,5 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
         v: sub(b.v, a.v),
         d: a.r + b.r,
     };
-    (S::arrival(&rel, Side::Exterior, t_max), rel.at_risk())
+    S::arrival(&rel, Side::Exterior, t_max)
 }

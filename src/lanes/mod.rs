@@ -38,6 +38,9 @@ pub trait Lanes:
     fn mul_add(self, m: Self, a: Self) -> Self;
     /// Absolute value.
     fn abs(self) -> Self;
+    /// Lane-wise minimum (x86 semantics: the second operand where either is NaN; callers
+    /// catch NaN with an ordered compare).
+    fn min(self, o: Self) -> Self;
     /// Mask of `self < o` (false for NaN).
     fn lt(self, o: Self) -> Self;
     /// Mask of `self ≤ o` (false for NaN).
@@ -104,6 +107,10 @@ macro_rules! impl_lanes {
             #[inline(always)]
             fn abs(self) -> Self {
                 <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                <$t>::fast_min(self, o)
             }
             #[inline(always)]
             fn lt(self, o: Self) -> Self {
