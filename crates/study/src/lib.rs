@@ -3,25 +3,37 @@
 //! (`spheresweep accuracy` writes docs/accuracy.md). A workspace member of its own, so that
 //! the library never compiles its oracle, plots or peer.
 
+pub mod condition;
 pub mod families;
 pub mod measure;
 pub mod oracle;
 pub mod pair;
 pub mod report;
 
-pub use families::Family;
-pub use measure::{FamilyResult, Path, PathResult, Summary, measure_family, throughput};
-pub use oracle::Exact;
-pub use pair::{Pair, Paths, kernel_times};
+pub use condition::{condition, ulp32};
+pub use families::{Family, Scaling, scaled_case};
+pub use measure::{
+    CONDITION_CASES, FamilyResult, Path, PathResult, Summary, band, measure_family, throughput,
+    window_band, wrong_outside_band,
+};
+pub use oracle::{Exact, Inputs};
+pub use pair::{Case, Pair, Paths, case_times, kernel_times};
 pub use report::Report;
 pub use spheresweep::rng::Rng;
 
-/// The families swept over difficulty `k = 1 ..= 6` in the report.
-pub const SWEPT: [Family; 4] = [
+/// The families swept over difficulty `k = 1 ..= 6` in the report (for the offset families,
+/// the scene `10¹ … 10⁶` from the origin).
+pub const SWEPT: [Family; 10] = [
     Family::Grazing,
     Family::FarSmall,
     Family::FarFromPlane,
     Family::PlaneFarAnchor,
+    Family::LargeOffset,
+    Family::PlaneOffsetNear,
+    Family::PlaneOffsetFar,
+    Family::CylinderOffsetNear,
+    Family::CylinderOffsetFar,
+    Family::ContainerOffset,
 ];
 
 /// Runs the whole study: every family at its stated difficulty, the swept families at every

@@ -3,9 +3,12 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
+
+use super::condition::{condition, ulp32};
 use super::families::Family;
 use super::oracle::Exact;
-use super::pair::{Pair, Paths, kernel_times};
+use super::pair::{Case, Pair, case_times};
 use spheresweep::rng::Rng;
 use spheresweep::{Accuracy, Shape, SphereStore};
 use spheresweep::{QueryOptions, batch};
@@ -77,8 +80,16 @@ pub struct PathResult {
     pub wrong: usize,
     /// Of those, how many lie outside the path's stated band of ill-conditioning.
     pub wrong_outside_band: usize,
+    /// Answers of `0` where the oracle's time is above 0 or there is no contact: a false
+    /// contact at `t = 0` (counted among the wrong answers when the oracle says no contact).
+    pub false_zero: usize,
     /// `|t − t*|` in f32 ulps of `t*`, over pairs both call hits with `t* > 0`.
     pub time_ulps: Summary,
+    /// `|t − t*| / κ` (ulps per unit of the condition number, [`crate::condition`]) over the
+    /// same pairs among the first [`CONDITION_CASES`] cases, where `κ` is finite: about the
+    /// number of ulps each input would have to move for the answer to be exact. Small on an
+    /// ill-conditioned family answered by an accurate kernel.
+    pub time_per_condition: Summary,
     /// `|t − t*| / t*` over the same pairs.
     pub time_rel: Summary,
     /// `|dist(t) − D| / (u · (coordinates + D))` at the reported time: the geometric error in
@@ -97,7 +108,17 @@ pub struct FamilyResult {
     pub level: u32,
     /// One result per path, in [`Path::ALL`] order.
     pub paths: Vec<PathResult>,
+    /// The finite condition numbers `κ` of the cases with a contact ahead among the first
+    /// [`CONDITION_CASES`].
+    pub condition: Summary,
+    /// Of those cases, how many have `κ = +∞` (a one-ulp change of one input loses the
+    /// contact).
+    pub unbounded: usize,
 }
+
+/// The condition number is estimated on the first this many cases of each family and level
+/// (about 20 exact solves per case).
+pub const CONDITION_CASES: usize = 2000;
 
 /// f32 unit roundoff.
 pub const U32: f64 = 1.0 / (1u64 << 24) as f64;
@@ -119,59 +140,116 @@ pub fn band(path: Path, pair: &Pair, d: f64) -> f64 {
     }
 }
 
-fn ulp32(t: f64) -> f64 {
-    let f = t as f32;
-    f64::from(f32::from_bits(f.to_bits() + 1) - f)
+/// The band of contact times around the window's end inside which `path` may give the wrong
+/// hit/miss answer, in ulps of the contact time, for a case of condition number `kappa`: a
+/// kernel whose answer is the exact time of its inputs moved by up to 8 of its own roundings
+/// each is off by up to `8κ` ulps (`8κ u₆₄/u` for `double`), plus the final rounding of an
+/// f32 time. parry3d is given no band.
+pub fn window_band(path: Path, kappa: f64) -> f64 {
+    match path {
+        Path::Mode(Accuracy::Double) => 8.0 * kappa * U64 / U32,
+        Path::Mode(_) => 8.0 * kappa + 1.0,
+        Path::Parry => 0.0,
+    }
 }
 
-/// Measures every path on `n` pairs of `family` at difficulty `level` (window `[0, ∞)`).
+/// Whether a wrong hit/miss answer of `path` on `case` lies outside the path's band: the
+/// closest approach is farther from grazing than [`band`], and the unwindowed contact time is
+/// farther from the window's end than [`window_band`] (with `kappa`, the case's condition
+/// number if already known: it is estimated here otherwise).
+pub fn wrong_outside_band(path: Path, case: &Case, exact: &Exact, kappa: Option<f64>) -> bool {
+    let d = exact.contact_distance().abs();
+    if exact.grazing_margin() <= band(path, &case.pair, d) {
+        return false;
+    }
+    if case.t_max.is_finite()
+        && let Some(t) = exact.time(f64::INFINITY)
+        && t > 0.0
+    {
+        let kappa = kappa
+            .or_else(|| condition(&case.pair))
+            .unwrap_or(f64::INFINITY);
+        let window = f64::from(case.t_max);
+        if (t - window).abs() <= window_band(path, kappa) * ulp32(t) {
+            return false;
+        }
+    }
+    true
+}
+
+/// Measures every path on `n` cases of `family` at difficulty `level`, each on its own window.
 pub fn measure_family(family: Family, level: u32, n: usize, seed: u64) -> FamilyResult {
     let mut rng = Rng::new(seed ^ (family as u64) << 32 ^ u64::from(level));
-    let pairs: Vec<Pair> = (0..n).map(|_| family.generate(&mut rng, level)).collect();
-    let exact: Vec<Exact> = pairs.iter().map(Exact::of).collect();
-    let truth: Vec<Option<f64>> = exact.iter().map(|e| e.time(f64::INFINITY)).collect();
+    let cases: Vec<Case> = (0..n).map(|_| family.case(&mut rng, level)).collect();
+    let exact: Vec<Exact> = cases.par_iter().map(|c| Exact::of(&c.pair)).collect();
+    let truth: Vec<Option<f64>> = exact
+        .iter()
+        .zip(&cases)
+        .map(|(e, c)| e.time(f64::from(c.t_max)))
+        .collect();
+    let kappa: Vec<Option<f64>> = cases[..n.min(CONDITION_CASES)]
+        .par_iter()
+        .map(|c| condition(&c.pair))
+        .collect();
     let paths = Path::ALL
         .into_iter()
         .map(|path| {
             let answers: Vec<Option<Option<f32>>> = match path {
-                Path::Mode(mode) => kernel_times(&pairs, mode, f32::INFINITY)
-                    .into_iter()
-                    .map(Some)
-                    .collect(),
-                Path::Parry => pairs.iter().map(|p| p.parry(f32::MAX)).collect(),
+                Path::Mode(mode) => case_times(&cases, mode).into_iter().map(Some).collect(),
+                Path::Parry => cases.iter().map(Case::parry).collect(),
             };
-            score(path, &pairs, &exact, &truth, &answers)
+            score(path, &cases, &exact, &truth, &answers, &kappa)
         })
         .collect();
+    let finite: Vec<f64> = kappa
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|k| k.is_finite())
+        .collect();
+    let unbounded = kappa.iter().flatten().filter(|k| k.is_infinite()).count();
     FamilyResult {
         family,
         level,
         paths,
+        condition: Summary::of(finite),
+        unbounded,
     }
 }
 
 fn score(
     path: Path,
-    pairs: &[Pair],
+    cases: &[Case],
     exact: &[Exact],
     truth: &[Option<f64>],
     answers: &[Option<Option<f32>>],
+    kappa: &[Option<f64>],
 ) -> PathResult {
-    let (mut cases, mut wrong, mut outside) = (0, 0, 0);
-    let (mut ulps, mut rel) = (Vec::new(), Vec::new());
+    let (mut count, mut wrong, mut outside, mut false_zero) = (0, 0, 0, 0);
+    let (mut ulps, mut per_kappa, mut rel) = (Vec::new(), Vec::new(), Vec::new());
     let (mut gap_coord, mut gap_rel) = (Vec::new(), Vec::new());
-    for (((pair, ex), t_true), answer) in pairs.iter().zip(exact).zip(truth).zip(answers) {
+    for (i, (((case, ex), t_true), answer)) in
+        cases.iter().zip(exact).zip(truth).zip(answers).enumerate()
+    {
         let Some(answer) = answer else { continue };
-        cases += 1;
+        count += 1;
+        let known = kappa.get(i).map(|k| k.unwrap_or(f64::INFINITY));
+        if *answer == Some(0.0) && *t_true != Some(0.0) {
+            false_zero += 1;
+        }
         match (t_true, answer) {
             (Some(t), Some(k)) => {
                 let k = f64::from(*k);
                 if *t > 0.0 {
-                    ulps.push((k - t).abs() / ulp32(*t));
+                    let e = (k - t).abs() / ulp32(*t);
+                    ulps.push(e);
+                    if let Some(kap) = known.filter(|k| k.is_finite() && *k > 0.0) {
+                        per_kappa.push(e / kap);
+                    }
                     rel.push((k - t).abs() / t);
                     let d = ex.contact_distance().abs();
                     let gap = ex.gap(k).abs();
-                    gap_coord.push(gap / (U32 * (pair.coordinate_scale(k) + d)));
+                    gap_coord.push(gap / (U32 * (case.pair.coordinate_scale(k) + d)));
                     if d > 0.0 {
                         gap_rel.push(gap / d);
                     }
@@ -180,8 +258,7 @@ fn score(
             (None, None) => {}
             _ => {
                 wrong += 1;
-                let d = ex.contact_distance().abs();
-                if ex.grazing_margin() > band(path, pair, d) {
+                if wrong_outside_band(path, case, ex, known) {
                     outside += 1;
                 }
             }
@@ -189,10 +266,12 @@ fn score(
     }
     PathResult {
         path,
-        cases,
+        cases: count,
         wrong,
         wrong_outside_band: outside,
+        false_zero,
         time_ulps: Summary::of(ulps),
+        time_per_condition: Summary::of(per_kappa),
         time_rel: Summary::of(rel),
         gap_coord: Summary::of(gap_coord),
         gap_rel: Summary::of(gap_rel),

@@ -11,8 +11,8 @@
 use dashu::rational::RBig;
 
 use super::pair::Pair;
-use spheresweep::Shape;
 use spheresweep::Side;
+use spheresweep::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
 
 /// The exact quadratic `dist² − D² = A t² + 2b t + C` of one pair, and `q = b² − AC`.
 #[derive(Debug, Clone)]
@@ -35,9 +35,6 @@ fn exact64(x: f64) -> RBig {
 
 type V = [RBig; 3];
 
-fn vector(v: glam::Vec3) -> V {
-    [exact(v.x), exact(v.y), exact(v.z)]
-}
 fn sub(a: &V, b: &V) -> V {
     [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
 }
@@ -48,16 +45,125 @@ fn to_f64(x: &RBig) -> f64 {
     x.to_f64().value()
 }
 
+/// The f32 numbers a pair is made of, flat, in a fixed order per kind: the sphere's centre,
+/// velocity and radius (indices 0 – 6), then the other body's — a sphere's centre, velocity
+/// and radius; a plane's point and normal; a cylinder's axis point, axis and radius; a
+/// container's centre and radius. The oracle reads a pair only through them, so that one
+/// input can be moved by an ulp without going through a constructor (which would normalise a
+/// normal or an axis again): [`super::condition`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inputs {
+    kind: ShapeKind,
+    values: [f32; 14],
+}
+
+impl Inputs {
+    /// The inputs of `pair`.
+    pub fn of(pair: &Pair) -> Self {
+        let s = &pair.sphere;
+        let mut values = [0.0f32; 14];
+        values[..3].copy_from_slice(&s.centre().to_array());
+        values[3..6].copy_from_slice(&s.velocity().to_array());
+        values[6] = s.radius();
+        let (a, b, r) = match &pair.other {
+            Shape::Sphere(o) => (o.centre(), o.velocity(), o.radius()),
+            Shape::Plane(p) => (p.point(), p.normal(), 0.0),
+            Shape::Cylinder(c) => (c.point(), c.axis(), c.radius()),
+            Shape::Container(k) => (k.centre(), glam::Vec3::ZERO, k.radius()),
+        };
+        values[7..10].copy_from_slice(&a.to_array());
+        let kind = pair.other.kind();
+        if kind == ShapeKind::Container {
+            values[10] = r;
+        } else {
+            values[10..13].copy_from_slice(&b.to_array());
+            values[13] = r;
+        }
+        Self { kind, values }
+    }
+
+    /// The kind of the other body.
+    pub fn kind(&self) -> ShapeKind {
+        self.kind
+    }
+
+    /// How many inputs the pair has: 14 (sphere, cylinder), 13 (plane), 11 (container).
+    pub fn len(&self) -> usize {
+        match self.kind {
+            ShapeKind::Sphere | ShapeKind::Cylinder => 14,
+            ShapeKind::Plane => 13,
+            ShapeKind::Container => 11,
+        }
+    }
+
+    /// Never: every pair has inputs (for clippy's `len_without_is_empty`).
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The inputs in order.
+    pub fn values(&self) -> &[f32] {
+        &self.values[..self.len()]
+    }
+
+    /// Whether input `i` is a radius (which must stay at or above zero).
+    pub fn is_radius(&self, i: usize) -> bool {
+        i == 6
+            || (i == 13 && self.kind != ShapeKind::Plane)
+            || (i == 10 && self.kind == ShapeKind::Container)
+    }
+
+    /// The same inputs with input `i` set to `x` (no validation: the caller keeps radii
+    /// non-negative, values finite and normals and axes non-zero).
+    ///
+    /// # Panics
+    /// If `i` is not below [`Self::len`].
+    #[must_use]
+    pub fn with(mut self, i: usize, x: f32) -> Self {
+        assert!(i < self.len(), "input {i} of {}", self.len());
+        self.values[i] = x;
+        self
+    }
+
+    /// The pair these inputs describe, through the validating constructors (which normalise
+    /// a normal or an axis again); `None` if a constructor rejects a value (an infinity, a
+    /// negative radius, a zero normal or axis).
+    pub fn pair(&self) -> Option<Pair> {
+        let v = &self.values;
+        let at = |i: usize| [v[i], v[i + 1], v[i + 2]];
+        let sphere = Sphere::new(at(0), at(3), v[6], 1.0).ok()?;
+        let other = match self.kind {
+            ShapeKind::Sphere => Shape::Sphere(Sphere::new(at(7), at(10), v[13], 1.0).ok()?),
+            ShapeKind::Plane => Shape::Plane(Plane::new(at(7), at(10)).ok()?),
+            ShapeKind::Cylinder => Shape::Cylinder(Cylinder::from_axis(at(7), at(10), v[13]).ok()?),
+            ShapeKind::Container => Shape::Container(Container::new(at(7), v[10]).ok()?),
+        };
+        Some(Pair { sphere, other })
+    }
+
+    fn vector(&self, i: usize) -> V {
+        [
+            exact(self.values[i]),
+            exact(self.values[i + 1]),
+            exact(self.values[i + 2]),
+        ]
+    }
+}
+
 impl Exact {
     /// The exact coefficients of `pair`.
     pub fn of(pair: &Pair) -> Self {
-        let s = &pair.sphere;
-        let (c, v, r) = (vector(s.centre()), vector(s.velocity()), exact(s.radius()));
-        let (a, b, cc, d, side) = match &pair.other {
-            Shape::Sphere(o) => {
-                let r0 = sub(&vector(o.centre()), &c);
-                let v = sub(&vector(o.velocity()), &v);
-                let d = &r + exact(o.radius());
+        Self::from_inputs(&Inputs::of(pair))
+    }
+
+    /// The exact coefficients of the pair made of `inputs`.
+    pub fn from_inputs(inputs: &Inputs) -> Self {
+        let (c, v, r) = (inputs.vector(0), inputs.vector(3), exact(inputs.values[6]));
+        let (a, b, cc, d, side) = match inputs.kind {
+            ShapeKind::Sphere => {
+                let r0 = sub(&inputs.vector(7), &c);
+                let v = sub(&inputs.vector(10), &v);
+                let d = &r + exact(inputs.values[13]);
                 (
                     dot(&v, &v),
                     dot(&r0, &v),
@@ -66,9 +172,9 @@ impl Exact {
                     Side::Exterior,
                 )
             }
-            Shape::Container(k) => {
-                let r0 = sub(&c, &vector(k.centre()));
-                let d = exact(k.radius()) - &r;
+            ShapeKind::Container => {
+                let r0 = sub(&c, &inputs.vector(7));
+                let d = exact(inputs.values[10]) - &r;
                 (
                     dot(&v, &v),
                     dot(&r0, &v),
@@ -77,22 +183,22 @@ impl Exact {
                     Side::Interior,
                 )
             }
-            Shape::Plane(p) => {
-                let n = vector(p.normal());
+            ShapeKind::Plane => {
+                let n = inputs.vector(10);
                 let nn = dot(&n, &n);
-                let r0 = dot(&sub(&c, &vector(p.point())), &n);
+                let r0 = dot(&sub(&c, &inputs.vector(7)), &n);
                 let vn = dot(&v, &n);
                 let a = &vn * &vn / &nn;
                 let b = &r0 * &vn / &nn;
                 let cc = &r0 * &r0 / &nn - &r * &r;
                 (a, b, cc, r, Side::Exterior)
             }
-            Shape::Cylinder(cy) => {
-                let s_ = vector(cy.axis());
+            ShapeKind::Cylinder => {
+                let s_ = inputs.vector(10);
                 let ss = dot(&s_, &s_);
-                let x = sub(&c, &vector(cy.point()));
+                let x = sub(&c, &inputs.vector(7));
                 let (xs, vs) = (dot(&x, &s_), dot(&v, &s_));
-                let d = &r + exact(cy.radius());
+                let d = &r + exact(inputs.values[13]);
                 let a = dot(&v, &v) - &vs * &vs / &ss;
                 let b = dot(&x, &v) - &xs * &vs / &ss;
                 let cc = dot(&x, &x) - &xs * &xs / &ss - &d * &d;
@@ -112,6 +218,11 @@ impl Exact {
 
     /// The true earliest admissible time in `[0, t_max]` (`t_max` may be `+∞`), by the policy
     /// of docs/derivations/policies.md, every decision exact.
+    ///
+    /// A sphere inside a container is at a contact at `t = 0` when it is at or beyond the
+    /// wall (`C ≥ 0`) and moving outwards (`b > 0`) or tangentially (`b = 0`, `A > 0`): touching
+    /// the wall and sliding along it, and an exact fit (`D = 0`) that moves at all, are contacts
+    /// at 0 (the container policy of the compensated kernels).
     pub fn time(&self, t_max: f64) -> Option<f64> {
         let zero = RBig::ZERO;
         let Exact {
@@ -165,7 +276,10 @@ impl Exact {
                         cf / (-bf - qf.sqrt())
                     };
                     Some(t.min(t_max))
-                } else if *c >= zero && *b > zero {
+                } else if *c >= zero && (*b > zero || (*b == zero && *a > zero)) {
+                    // At or beyond the wall and not moving back inwards: moving outwards, or
+                    // tangentially (`b = 0`, `A > 0`: touching and sliding along the wall, or
+                    // an exact fit `D = 0` that moves at all).
                     Some(0.0)
                 } else {
                     None

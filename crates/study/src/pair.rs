@@ -22,7 +22,8 @@ pub trait Paths {
     /// when parry has no such shape (the inside of a container). A plane is parry's
     /// half-space; the infinite cylinder is a finite one centred on the axis point nearest the
     /// sphere, just long enough to cover the travel to the contact (its best case: parry's
-    /// errors grow with the cylinder's length, docs/accuracy.md).
+    /// errors grow with the cylinder's length, docs/accuracy.md). The half-space faces the side
+    /// of the plane the sphere starts on (ours is two-sided, parry's solid below its plane).
     fn parry(&self, t_max: f32) -> Option<Option<f32>>;
 }
 
@@ -53,11 +54,18 @@ impl Paths for Pair {
                 b.velocity(),
                 &Ball::new(b.radius()),
             )),
-            Shape::Plane(p) => Some(cast(
-                &Pose::from_translation(p.point()),
-                Vector::ZERO,
-                &HalfSpace::new(p.normal()),
-            )),
+            Shape::Plane(p) => {
+                // parry's half-space is one-sided (solid below the plane): ours is two-sided,
+                // so the half-space faces the side the sphere starts on.
+                let side =
+                    (s.centre().as_dvec3() - p.point().as_dvec3()).dot(p.normal().as_dvec3());
+                let normal = if side < 0.0 { -p.normal() } else { p.normal() };
+                Some(cast(
+                    &Pose::from_translation(p.point()),
+                    Vector::ZERO,
+                    &HalfSpace::new(normal),
+                ))
+            }
             Shape::Cylinder(c) => {
                 let axis = c.axis().as_dvec3().normalize();
                 let x = s.centre().as_dvec3() - c.point().as_dvec3();
@@ -77,10 +85,46 @@ impl Paths for Pair {
     }
 }
 
+/// One case of a family: a pair and the window `[0, t_max]` it is asked about (`+∞` for the
+/// families that leave the window open; the window-edge families end it within a few ulps of
+/// the contact). The oracle decides hit or miss against the same window (`Exact::time`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    /// The pair.
+    pub pair: Pair,
+    /// The end of the window (never NaN or negative; may be `+∞`).
+    pub t_max: f32,
+}
+
+impl Case {
+    /// A pair with the window `[0, ∞)`.
+    pub fn open(pair: Pair) -> Self {
+        Self {
+            pair,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    /// The kernel's answer in `mode` on this case's window.
+    pub fn kernel(&self, mode: Accuracy) -> Option<f32> {
+        self.pair.kernel(mode, self.t_max)
+    }
+
+    /// parry3d's answer on this case's window (an open window is parry's `f32::MAX`).
+    pub fn parry(&self) -> Option<Option<f32>> {
+        self.pair.parry(self.t_max.min(f32::MAX))
+    }
+}
+
 /// The kernels' answers for many pairs in `mode`.
 ///
 /// # Panics
 /// If `t_max` is NaN or negative.
 pub fn kernel_times(pairs: &[Pair], mode: Accuracy, t_max: f32) -> Vec<Option<f32>> {
     pairs.iter().map(|p| p.kernel(mode, t_max)).collect()
+}
+
+/// The kernels' answers for many cases in `mode`, each on its own window.
+pub fn case_times(cases: &[Case], mode: Accuracy) -> Vec<Option<f32>> {
+    cases.iter().map(|c| c.kernel(mode)).collect()
 }

@@ -1,39 +1,190 @@
 //! Every hard-case family at its stated difficulty against the exact oracle
-//! (docs/derivations/accuracy.md, docs/derivations/oracle.md):
-//! - `stable` and `double` give no wrong hit/miss answer outside their stated bands;
+//! (docs/derivations/accuracy.md, docs/derivations/oracle.md, docs/derivations/condition.md):
+//! - `stable` and `double` give no wrong hit/miss answer outside their stated bands (the
+//!   window-edge families included) and no false contact at `t = 0`;
+//! - `stable` is never less accurate than `textbook` (p99 time error, every family);
+//! - `stable`'s time error is at most 4 ulps per unit of the case's condition number (p99,
+//!   every family), and `double`'s at most half an ulp (every case);
 //! - at the time they report, the bodies are at distance `D` within 8 (stable) and 2 (double)
 //!   units of the f32 rounding of the scene's coordinates, `u·(coordinates + D)`;
-//! - on the well-conditioned families `stable` is within the stated ulps of the true time and
-//!   `double` within half an ulp (its only f32 rounding is the final one);
+//! - on the well-conditioned families `stable` is within the stated ulps of the true time;
 //! - `textbook` fails where theory says it must: far from a plane (its band `u X²/D` exceeds
-//!   the cases' margins) and far from a small sphere.
+//!   the cases' margins) and far from a small sphere;
+//! - every pair kind at every scale from 10⁻³⁰ to 10³⁰ (lengths, speeds, or both): no wrong
+//!   hit/miss outside the band and no false contact at 0 in any mode, times within their
+//!   bounds;
+//! - the container's tangential and exact-fit cases are contacts at 0 everywhere.
 
-use spheresweep::Accuracy;
-use spheresweep_study::{Exact, Family, Pair, Path, PathResult, Rng, measure_family};
+use std::sync::OnceLock;
+
+use spheresweep::{Accuracy, QueryOptions, Shape, ShapeKind};
+use spheresweep::{Container, Sphere};
+use spheresweep_study::{
+    Case, Exact, Family, FamilyResult, Pair, Path, PathResult, Rng, Scaling, Summary, condition,
+    measure_family, scaled_case, ulp32, window_band, wrong_outside_band,
+};
 
 const CASES: usize = 400;
 const SEED: u64 = 7;
 
-fn result(family: Family, path: Path) -> PathResult {
-    let r = measure_family(family, family.stated_level(), CASES, SEED);
-    r.paths
-        .into_iter()
-        .find(|p| p.path == path)
-        .expect("every path is measured")
+/// Every family at its stated level, measured once for all the tests of this file.
+fn measured() -> &'static [FamilyResult] {
+    static MEASURED: OnceLock<Vec<FamilyResult>> = OnceLock::new();
+    MEASURED.get_or_init(|| {
+        Family::ALL
+            .into_iter()
+            .map(|f| measure_family(f, f.stated_level(), CASES, SEED))
+            .collect()
+    })
+}
+
+fn result(family: Family, path: Path) -> &'static PathResult {
+    measured()
+        .iter()
+        .find(|f| f.family == family)
+        .and_then(|f| f.paths.iter().find(|p| p.path == path))
+        .expect("every family and path is measured")
 }
 
 #[test]
 fn stable_and_double_are_wrong_only_inside_their_bands() {
+    // Every family, the window-edge ones included (there the band is the window band: the
+    // contact within `8κ + 1` ulps of the window's end for `stable`, `8κ u₆₄/u` for `double`).
+    let mut failures = Vec::new();
     for family in Family::ALL {
         for mode in [Accuracy::Stable, Accuracy::Double] {
             let r = result(family, Path::Mode(mode));
-            assert_eq!(
-                r.wrong_outside_band,
-                0,
-                "{mode} on {}: {r:?}",
-                family.name()
-            );
+            if r.wrong_outside_band > 0 || r.false_zero > 0 {
+                failures.push(format!(
+                    "{mode} on {}: {} of {} wrong answers outside the band, {} false contacts at 0",
+                    family.name(),
+                    r.wrong_outside_band,
+                    r.wrong,
+                    r.false_zero
+                ));
+            }
         }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Cases per family for the comparison of `stable` with `textbook`: a 99th percentile of 400
+/// cases is their fourth-largest error, too noisy to order two kernels within 20 %.
+const COMPARED_CASES: usize = 4000;
+
+/// The p99 (and max) time error in ulps of `mode` over the hits of `cases` with `t* > 0`.
+fn time_error(cases: &[(Case, Option<f64>)], mode: Accuracy) -> Summary {
+    Summary::of(
+        cases
+            .iter()
+            .filter_map(|(case, truth)| {
+                let t = truth.filter(|t| *t > 0.0)?;
+                let k = case.kernel(mode)?;
+                Some((f64::from(k) - t).abs() / ulp32(t))
+            })
+            .collect(),
+    )
+}
+
+#[test]
+fn stable_is_never_less_accurate_than_textbook() {
+    // p99 of the time error in ulps, family by family: compensated differences must not lose
+    // to the literal formula anywhere, in particular not far from the origin with the plane's
+    // or the axis's given point next to the sphere, where subtracting it is exact.
+    let mut failures = Vec::new();
+    for family in Family::ALL {
+        let mut rng = Rng::new(SEED ^ (family as u64) << 32);
+        let cases: Vec<(Case, Option<f64>)> = (0..COMPARED_CASES)
+            .map(|_| {
+                let case = family.case(&mut rng, family.stated_level());
+                let truth = Exact::of(&case.pair).time(f64::from(case.t_max));
+                (case, truth)
+            })
+            .collect();
+        let textbook = time_error(&cases, Accuracy::Textbook);
+        let stable = time_error(&cases, Accuracy::Stable);
+        assert!(
+            stable.count > COMPARED_CASES / 10,
+            "{}: too few hits",
+            family.name()
+        );
+        if stable.p99 > textbook.p99 {
+            failures.push(format!(
+                "{} ({}): stable p99 {:.3} ulps > textbook p99 {:.3} (p50 {:.2} vs {:.2}, \
+                 max {:.2} vs {:.2})",
+                family.name(),
+                family.kind(),
+                stable.p99,
+                textbook.p99,
+                stable.p50,
+                textbook.p50,
+                stable.max,
+                textbook.max
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn stable_time_error_is_a_few_ulps_per_unit_of_condition() {
+    // |t − t*| / κ: about the number of ulps every input would have to move for the answer to
+    // be exact. A backward-stable kernel keeps it small on every family, however
+    // ill-conditioned the family's times are.
+    let mut failures = Vec::new();
+    for family in Family::ALL {
+        let stable = result(family, Path::Mode(Accuracy::Stable));
+        let ratio = stable.time_per_condition;
+        assert!(ratio.count > 0, "{}: no conditioned hits", family.name());
+        if ratio.p99 > 4.0 {
+            failures.push(format!("{}: stable error/κ {ratio:?}", family.name()));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn double_is_within_half_an_ulp_on_every_family() {
+    // Its only f32 rounding is the last one (its f64 error is about κ·2⁻²⁹ ulps).
+    let mut failures = Vec::new();
+    for family in Family::ALL {
+        let double = result(family, Path::Mode(Accuracy::Double));
+        if double.time_ulps.max > 0.5 + 1e-6 {
+            failures.push(format!("{}: double {:?}", family.name(), double.time_ulps));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn window_edge_cases_straddle_the_window() {
+    // The window ends within k ulps of the exact contact, on either side: hits and misses
+    // both, decided by the oracle exactly.
+    let mut rng = Rng::new(SEED);
+    for family in [
+        Family::WindowEdgeSphere,
+        Family::WindowEdgePlane,
+        Family::WindowEdgeCylinder,
+        Family::WindowEdgeContainer,
+    ] {
+        let k = family.stated_level();
+        let (mut hits, mut misses) = (0, 0);
+        for _ in 0..200 {
+            let case = family.case(&mut rng, k);
+            let exact = Exact::of(&case.pair);
+            let t = exact.time(f64::INFINITY).expect("a contact ahead");
+            let off = (t - f64::from(case.t_max)).abs() / ulp32(t);
+            assert!(off <= f64::from(k) + 1.0, "{}: {off} ulps", family.name());
+            match exact.time(f64::from(case.t_max)) {
+                Some(_) => hits += 1,
+                None => misses += 1,
+            }
+        }
+        assert!(
+            hits >= 50 && misses >= 50,
+            "{}: {hits} hits, {misses} misses",
+            family.name()
+        );
     }
 }
 
@@ -235,6 +386,9 @@ fn the_oracle_agrees_with_the_reference_away_from_grazing() {
         Family::Baseline,
         Family::ContainerWall,
         Family::FarFromPlane,
+        Family::PlaneOffsetNear,
+        Family::CylinderOffsetFar,
+        Family::ContainerOffset,
     ] {
         for _ in 0..500 {
             let pair = family.generate(&mut rng, 2);
@@ -250,5 +404,224 @@ fn the_oracle_agrees_with_the_reference_away_from_grazing() {
                 _ => panic!("{truth:?} vs {reference:?}: {pair:?}"),
             }
         }
+    }
+}
+
+/// Counts of one mode at one point of the scale sweep.
+#[derive(Debug, Default, Clone, Copy)]
+struct Tally {
+    cases: usize,
+    wrong_outside_band: usize,
+    false_zero: usize,
+    time_outside: usize,
+    worst_time_over_bound: f64,
+}
+
+/// One point of the scale sweep: the kind, what is scaled, `log10 s`, the mode.
+type Point = (ShapeKind, Scaling, i32, Accuracy);
+
+const SWEEP_CASES: usize = 200;
+
+/// The time bound of the scale sweep, in ulps, for a case of condition number `kappa`:
+/// `stable` `8κ + 1` (as its window band), `double` half an ulp (plus `8κ u₆₄/u`),
+/// `textbook` `64κ + 1` — loose: it only catches garbage (an overflow, an underflow), not the
+/// literal formula's ordinary loss of digits.
+fn time_bound(mode: Accuracy, kappa: f64) -> f64 {
+    match mode {
+        Accuracy::Textbook => 64.0 * kappa + 1.0,
+        Accuracy::Stable => window_band(Path::Mode(mode), kappa),
+        Accuracy::Double => 0.5 + 1e-6 + window_band(Path::Mode(mode), kappa),
+    }
+}
+
+/// Every kind, scaling and scale `10⁻³⁰, 10⁻²⁵, …, 10³⁰`, [`SWEEP_CASES`] cases each, every
+/// mode through the public single-pair entry; computed once for the tests below. Also the
+/// number of cases skipped because a scaled input overflowed.
+fn sweep() -> &'static (Vec<(Point, Tally)>, usize) {
+    static SWEEP: OnceLock<(Vec<(Point, Tally)>, usize)> = OnceLock::new();
+    SWEEP.get_or_init(|| {
+        let mut points = Vec::new();
+        let mut skipped = 0;
+        for (n, kind) in ShapeKind::ALL.into_iter().enumerate() {
+            for (m, scaling) in Scaling::ALL.into_iter().enumerate() {
+                for e in (-30..=30).step_by(5) {
+                    let mut rng = Rng::new(SEED ^ (n as u64) << 40 ^ (m as u64) << 32 ^ e as u64);
+                    let mut tallies = [Tally::default(); 3];
+                    for _ in 0..SWEEP_CASES {
+                        let Some(case) = scaled_case(kind, &mut rng, scaling, 10f64.powi(e)) else {
+                            skipped += 1;
+                            continue;
+                        };
+                        check(&case, &mut tallies);
+                    }
+                    for (mode, tally) in Accuracy::ALL.into_iter().zip(tallies) {
+                        points.push(((kind, scaling, e, mode), tally));
+                    }
+                }
+            }
+        }
+        (points, skipped)
+    })
+}
+
+/// One case of the sweep in every mode.
+fn check(case: &Case, tallies: &mut [Tally; 3]) {
+    let exact = Exact::of(&case.pair);
+    let truth = exact.time(f64::from(case.t_max));
+    let mut kappa = None;
+    for (mode, tally) in Accuracy::ALL.into_iter().zip(tallies.iter_mut()) {
+        tally.cases += 1;
+        let options = QueryOptions::new(case.t_max, mode).expect("a valid window");
+        let answer = spheresweep::time_of_impact(&case.pair.sphere, &case.pair.other, options);
+        if answer == Some(0.0) && truth != Some(0.0) {
+            tally.false_zero += 1;
+        }
+        match (truth, answer) {
+            (Some(t), Some(k)) if t > 0.0 => {
+                let error = (f64::from(k) - t).abs() / ulp32(t);
+                if error > 0.5 {
+                    let kappa = *kappa
+                        .get_or_insert_with(|| condition(&case.pair).unwrap_or(f64::INFINITY));
+                    let bound = time_bound(mode, kappa);
+                    if error > bound {
+                        tally.time_outside += 1;
+                        tally.worst_time_over_bound =
+                            tally.worst_time_over_bound.max(error / bound);
+                    }
+                }
+            }
+            (Some(_), Some(_)) | (None, None) => {}
+            _ => {
+                if wrong_outside_band(Path::Mode(mode), case, &exact, None) {
+                    tally.wrong_outside_band += 1;
+                }
+            }
+        }
+    }
+}
+
+fn sweep_failures(bad: impl Fn(&Tally) -> bool) -> Vec<String> {
+    sweep()
+        .0
+        .iter()
+        .filter(|(_, t)| bad(t))
+        .map(|((kind, scaling, e, mode), t)| {
+            format!(
+                "{kind}, {} × 1e{e}, {mode}: {} wrong outside the band, {} false contacts at 0, \
+                 {} times beyond the bound (worst ×{:.1e}) of {}",
+                scaling.name(),
+                t.wrong_outside_band,
+                t.false_zero,
+                t.time_outside,
+                t.worst_time_over_bound,
+                t.cases
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn every_scale_gives_the_right_hit_or_miss() {
+    // No silent wrong answer from 1e-30 to 1e30: lanes whose magnitudes leave f32's range
+    // must still be answered right, in every mode, and never as a false contact at 0.
+    let (points, skipped) = sweep();
+    let cases: usize = points.iter().map(|(_, t)| t.cases).sum();
+    assert!(
+        cases >= 3 * 4 * 3 * 13 * SWEEP_CASES * 9 / 10,
+        "{cases} cases, {skipped} skipped"
+    );
+    let failures = sweep_failures(|t| t.wrong_outside_band > 0 || t.false_zero > 0);
+    assert!(
+        failures.is_empty(),
+        "{} of {} points fail:\n{}",
+        failures.len(),
+        points.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn every_scale_gives_an_accurate_time() {
+    // Where both call it a hit, the time is within the mode's bound at every scale.
+    let failures = sweep_failures(|t| t.time_outside > 0);
+    assert!(
+        failures.is_empty(),
+        "{} of {} points fail:\n{}",
+        failures.len(),
+        sweep().0.len(),
+        failures.join("\n")
+    );
+}
+
+/// `(sphere, container)`: the contact at 0 the reference, the oracle and every mode must
+/// report, on the windows `[0, ∞)`, `[0, 1]` and `[0, 0]`.
+fn assert_contact_at_zero(sphere: Sphere, vessel: Container) {
+    let pair = Pair {
+        sphere,
+        other: Shape::Container(vessel),
+    };
+    for t_max in [f32::INFINITY, 1.0, 0.0] {
+        let window = f64::from(t_max);
+        assert_eq!(Exact::of(&pair).time(window), Some(0.0), "oracle, {pair:?}");
+        assert_eq!(
+            pair.time_of_impact(window),
+            Some(0.0),
+            "reference, {pair:?}"
+        );
+        for mode in Accuracy::ALL {
+            let options = QueryOptions::new(t_max, mode).expect("a valid window");
+            assert_eq!(
+                spheresweep::time_of_impact(&sphere, &pair.other, options),
+                Some(0.0),
+                "{mode} on [0, {t_max}], {pair:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn touching_the_wall_and_sliding_along_it_is_a_contact_at_zero() {
+    // C = 0 (‖r0‖ = D = 4), B = 0 (moving tangentially), A = 1.
+    let vessel = Container::new([0.0; 3], 5.0).expect("valid");
+    let sphere = Sphere::new([4.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.0, 1.0).expect("valid");
+    assert_contact_at_zero(sphere, vessel);
+    // Away from the origin, and sliding in a tilted tangential direction.
+    let vessel = Container::new([100.0, -50.0, 25.0], 5.0).expect("valid");
+    let sphere = Sphere::new([100.0, -46.0, 25.0], [3.0, 0.0, -2.0], 1.0, 1.0).expect("valid");
+    assert_contact_at_zero(sphere, vessel);
+    // Beyond the wall (C > 0) and tangential: also a contact at 0.
+    let vessel = Container::new([0.0; 3], 5.0).expect("valid");
+    let sphere = Sphere::new([0.0, 0.0, 4.5], [1.0, 1.0, 0.0], 1.0, 1.0).expect("valid");
+    assert_contact_at_zero(sphere, vessel);
+    // At rest against the wall (A = 0): never a contact.
+    let sphere = Sphere::new([4.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0).expect("valid");
+    let pair = Pair {
+        sphere,
+        other: Shape::Container(Container::new([0.0; 3], 5.0).expect("valid")),
+    };
+    assert_eq!(Exact::of(&pair).time(f64::INFINITY), None);
+    assert_eq!(pair.time_of_impact(f64::INFINITY), None);
+    for mode in Accuracy::ALL {
+        let options = QueryOptions::new(f32::INFINITY, mode).expect("a valid window");
+        assert_eq!(
+            spheresweep::time_of_impact(&sphere, &pair.other, options),
+            None,
+            "{mode}"
+        );
+    }
+}
+
+#[test]
+fn an_exact_fit_that_moves_is_a_contact_at_zero() {
+    // D = R_container − R = 0: the sphere fills its vessel; any motion pushes into the wall.
+    for (centre, radius, velocity) in [
+        ([0.0f32; 3], 1.0f32, [1.0f32, 0.0, 0.0]),
+        ([3.0, -2.0, 7.0], 2.5, [0.0, -0.25, 4.0]),
+        ([1e5, 0.0, -1e5], 10.0, [1e-3, 1e-3, 0.0]),
+        ([0.0; 3], 0.0, [0.0, 0.0, 1.0]),
+    ] {
+        let vessel = Container::new(centre, radius).expect("valid");
+        let sphere = Sphere::new(centre, velocity, radius, 1.0).expect("valid");
+        assert_contact_at_zero(sphere, vessel);
     }
 }
