@@ -249,6 +249,10 @@ impl Solver for Stable {
                 (t, moving & b.lt(zero) & (touching | q.ge(zero)))
             }
             Side::Interior => {
+                // Inside (C ≤ 0) q = b² − AC is a sum of two non-negative terms: no
+                // cancellation, where Lagrange's form subtracts.
+                let q = b.mul_add(b, -(a * c));
+                let sqrt = q.sqrt();
                 // t2 = (−b + √q)/A if b ≤ 0, else C/(−b − √q): never a difference of
                 // like-signed terms. Select numerator and denominator, then divide once.
                 let outwards = b.gt(zero);

@@ -117,7 +117,12 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
                 dot_minus_compensated(a.c, e1.e, e1.e_lo, e1.off, e1.off_lo),
                 dot_minus_compensated(a.c, e2.e, e2.e_lo, e2.off, e2.off_lo),
             ],
-            v: [dot_fused(a.v, e1.e), dot_fused(a.v, e2.e)],
+            // v's perpendicular part first, against the lane axis: its rounding error lies
+            // along ŝ, which the frame (⟂ ŝ to u) sees only at second order.
+            v: {
+                let v_perp = reject_fused(a.v, s);
+                [dot_fused(v_perp, e1.e), dot_fused(v_perp, e2.e)]
+            },
             d,
         };
         S::arrival(&rel, Side::Exterior, t_max)
