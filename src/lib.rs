@@ -22,6 +22,7 @@
 
 pub mod accuracy;
 pub mod batch;
+pub mod broad;
 pub mod contact;
 pub mod error;
 mod kernels;

@@ -1,15 +1,289 @@
-//! Whole-scene query on the 8-wide kernels: the first contact of every sphere with anything.
+//! The whole-scene query: a scene and a window in; out the first contact of each sphere, or
+//! every contact in the window (each pair once), with geometry only when asked.
 //!
-//! Sphere pairs are tested all against all for now (the uniform-grid broad phase replaces
-//! that in a later step); each static kind runs its kernel only if the scene has such shapes.
+//! Pipeline, one named stage each (docs/ARCHITECTURE.md):
+//! 1. **broad phase**: a uniform grid over the spheres' swept boxes ([`crate::broad`]) gives
+//!    every candidate sphere pair once, as positions in cell order;
+//! 2. **sort**: the spheres are copied into that order, so the narrow phase reads neighbours
+//!    from nearby memory;
+//! 3. **narrow phase**: the candidate pairs go to the 8-wide kernels as index lanes
+//!    ([`batch::pair_times`]);
+//! 4. **statics**: every sphere against every plane, cylinder and container, 8 at a time; a
+//!    scene without shapes of a kind never runs that kind's kernel;
+//! 5. **reduce**: the earliest per sphere (ties: spheres, then planes, cylinders, containers,
+//!    each by index), or every contact sorted by time;
+//! 6. **geometry**: points and normals for the reported contacts, only if asked for.
+//!
+//! An infinite window has unbounded swept boxes: no broad phase can cull it, so every pair is
+//! a candidate (quadratic in the number of spheres).
+
+pub mod brute_force;
 
 use crate::batch::{self, FirstContact, QueryOptions, StaticShape};
-use crate::contact::{Body, contact_at};
+use crate::broad::{Grid, GridOptions};
+use crate::contact::{Body, Contact, contact_at};
 use crate::scene::Scene;
+use crate::shape::ShapeKind;
 use crate::store::SphereStore;
 
-/// For every sphere of `scene`, its earliest contact (ties: spheres, then planes, cylinders,
-/// containers, each by index), with the contact geometry if the options ask for it.
+/// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
+/// `sphere` is the lower index and each pair appears once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactEvent {
+    /// Time of impact in `[0, t_max]`.
+    pub time: f32,
+    /// The sphere (its index in the scene).
+    pub sphere: u32,
+    /// What it touches.
+    pub other: Body,
+    /// Centres, contact point and normal at `time`, if asked for.
+    pub geometry: Option<Contact>,
+}
+
+/// What the last query did: the broad phase's grid and the work each stage saw.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct QueryStats {
+    /// Spheres in the scene.
+    pub spheres: usize,
+    /// Candidate sphere pairs from the broad phase (all pairs for an infinite window).
+    pub candidate_pairs: usize,
+    /// Edge of a grid cell (0 when the grid was not used).
+    pub cell_size: f32,
+    /// Spheres too large or too fast for the cells, tested against all.
+    pub oversize: usize,
+    /// Whether the broad phase ran (false for an infinite window or fewer than two spheres).
+    pub grid: bool,
+}
+
+/// A reusable whole-scene query: it keeps the grid, its cell order and its buffers between
+/// calls, so a scene that moved a little re-sorts cheaply and no call allocates once the
+/// buffers have grown.
+///
+/// ```
+/// use spheresweep::{Accuracy, Body, QueryOptions, ShapeKind, query::SceneQuery};
+/// let scene = spheresweep::scene::demo();
+/// let mut query = SceneQuery::new();
+/// let hits = query.first_contacts(&scene, QueryOptions::new(10.0, Accuracy::Stable)?);
+/// assert_eq!(hits[0].unwrap().body, Body::new(ShapeKind::Sphere, 1));
+/// assert_eq!(hits[2].unwrap().body, Body::new(ShapeKind::Plane, 0));
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
+#[derive(Debug, Default)]
+pub struct SceneQuery {
+    grid: Grid,
+    options: GridOptions,
+    sorted: SphereStore,
+    pairs: Vec<[u32; 2]>,
+    times: Vec<f32>,
+    stats: QueryStats,
+}
+
+impl SceneQuery {
+    /// A query with the grid's automatic cell size.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A query with the given grid options (e.g. a fixed cell size).
+    pub fn with_grid_options(options: GridOptions) -> Self {
+        Self {
+            options,
+            ..Self::default()
+        }
+    }
+
+    /// What the last call did.
+    pub fn stats(&self) -> QueryStats {
+        self.stats
+    }
+
+    /// For every sphere of `scene`, its earliest contact in the window (ties: spheres, then
+    /// planes, cylinders, containers, each by index), with geometry if the options ask.
+    pub fn first_contacts(
+        &mut self,
+        scene: &Scene,
+        options: QueryOptions,
+    ) -> Vec<Option<FirstContact>> {
+        let n = scene.spheres.len();
+        let mut best: Vec<Option<FirstContact>> = vec![None; n];
+        self.sphere_pairs(scene, options);
+        for (&[p, q], &time) in self.pairs.iter().zip(&self.times) {
+            if !time.is_finite() {
+                continue;
+            }
+            let (i, j) = (self.index(p), self.index(q));
+            offer(&mut best[i as usize], time, Body::new(ShapeKind::Sphere, j));
+            offer(&mut best[j as usize], time, Body::new(ShapeKind::Sphere, i));
+        }
+        let times_only = options.with_geometry(false);
+        merge_static(&mut best, &scene.spheres, &scene.planes, times_only);
+        merge_static(&mut best, &scene.spheres, &scene.cylinders, times_only);
+        merge_static(&mut best, &scene.spheres, &scene.containers, times_only);
+        if options.geometry() {
+            for (i, slot) in best.iter_mut().enumerate() {
+                if let Some(hit) = slot {
+                    hit.geometry = Some(geometry(scene, i as u32, hit.body, hit.time));
+                }
+            }
+        }
+        best
+    }
+
+    /// Every contact in the window: each sphere pair once (the lower index first), and every
+    /// sphere with every static shape it touches, sorted by time, then sphere, then body.
+    pub fn all_contacts(&mut self, scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
+        self.sphere_pairs(scene, options);
+        let mut events: Vec<ContactEvent> = self
+            .pairs
+            .iter()
+            .zip(&self.times)
+            .filter(|(_, t)| t.is_finite())
+            .map(|(&[p, q], &time)| {
+                let (i, j) = (self.index(p), self.index(q));
+                ContactEvent {
+                    time,
+                    sphere: i.min(j),
+                    other: Body::new(ShapeKind::Sphere, i.max(j)),
+                    geometry: None,
+                }
+            })
+            .collect();
+        let store = &scene.spheres;
+        static_events(&mut events, store, &scene.planes, options);
+        static_events(&mut events, store, &scene.cylinders, options);
+        static_events(&mut events, store, &scene.containers, options);
+        sort_events(&mut events);
+        if options.geometry() {
+            for e in &mut events {
+                e.geometry = Some(geometry(scene, e.sphere, e.other, e.time));
+            }
+        }
+        events
+    }
+
+    /// The scene index of the sphere at position `p` of the last broad phase.
+    #[inline]
+    fn index(&self, p: u32) -> u32 {
+        if self.stats.grid {
+            self.grid.order()[p as usize]
+        } else {
+            p
+        }
+    }
+
+    /// Stages 1–3 for sphere pairs: fills `self.pairs` (positions, see [`Self::index`]) and
+    /// `self.times`.
+    fn sphere_pairs(&mut self, scene: &Scene, options: QueryOptions) {
+        let store = &scene.spheres;
+        let n = store.len();
+        let t_max = options.t_max();
+        let use_grid = t_max.is_finite() && n >= 2;
+        self.pairs.clear();
+        if use_grid {
+            self.grid.build(store, t_max, self.options);
+            self.pairs.extend_from_slice(self.grid.pairs());
+            self.sorted.permute_from(store, self.grid.order());
+        } else {
+            // No cull: every pair, in index order.
+            for i in 0..n as u32 {
+                self.pairs.extend((i + 1..n as u32).map(|j| [i, j]));
+            }
+            self.sorted.clone_from(store);
+        }
+        self.times.clear();
+        self.times.resize(self.pairs.len(), 0.0);
+        batch::pair_times(&self.sorted, &self.pairs, options, &mut self.times)
+            .expect("the broad phase's positions are in range and one slot per pair");
+        self.stats = QueryStats {
+            spheres: n,
+            candidate_pairs: self.pairs.len(),
+            cell_size: if use_grid { self.grid.cell_size() } else { 0.0 },
+            oversize: if use_grid { self.grid.oversize() } else { 0 },
+            grid: use_grid,
+        };
+    }
+}
+
+/// Keeps the earlier contact; at equal times the lower body (kind, then index).
+#[inline]
+fn offer(slot: &mut Option<FirstContact>, time: f32, body: Body) {
+    let better = match slot {
+        None => true,
+        Some(b) => time < b.time || (time == b.time && body < b.body),
+    };
+    if better {
+        *slot = Some(FirstContact {
+            time,
+            body,
+            geometry: None,
+        });
+    }
+}
+
+fn merge_static<K: StaticShape>(
+    best: &mut [Option<FirstContact>],
+    store: &SphereStore,
+    shapes: &[K],
+    options: QueryOptions,
+) {
+    if shapes.is_empty() {
+        return;
+    }
+    for (slot, hit) in best
+        .iter_mut()
+        .zip(batch::earliest_static_contacts(store, shapes, options))
+    {
+        if let Some(hit) = hit {
+            offer(slot, hit.time, hit.body);
+        }
+    }
+}
+
+fn static_events<K: StaticShape>(
+    events: &mut Vec<ContactEvent>,
+    store: &SphereStore,
+    shapes: &[K],
+    options: QueryOptions,
+) {
+    let mut times = vec![0.0; store.len()];
+    for (j, shape) in shapes.iter().enumerate() {
+        batch::static_times(store, shape, options, &mut times).expect("one slot per sphere");
+        events.extend(
+            times
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.is_finite())
+                .map(|(i, &time)| ContactEvent {
+                    time,
+                    sphere: i as u32,
+                    other: Body::new(K::KIND, j as u32),
+                    geometry: None,
+                }),
+        );
+    }
+}
+
+/// Time, then sphere, then body: a total order (times are finite), the same for any path.
+fn sort_events(events: &mut [ContactEvent]) {
+    events.sort_unstable_by(|a, b| {
+        a.time
+            .total_cmp(&b.time)
+            .then(a.sphere.cmp(&b.sphere))
+            .then(a.other.cmp(&b.other))
+    });
+}
+
+fn geometry(scene: &Scene, sphere: u32, body: Body, time: f32) -> Contact {
+    let s = scene
+        .spheres
+        .get(sphere as usize)
+        .expect("a sphere of the scene");
+    let other = scene.body(body).expect("a body the query found");
+    contact_at(&s, &other, time.into())
+}
+
+/// For every sphere of `scene`, its earliest contact: [`SceneQuery::first_contacts`] on a new
+/// query (use a [`SceneQuery`] to keep its buffers and cell order between calls).
 ///
 /// ```
 /// use spheresweep::{Accuracy, Body, QueryOptions, ShapeKind, query::first_contacts};
@@ -19,47 +293,10 @@ use crate::store::SphereStore;
 /// # Ok::<(), spheresweep::Error>(())
 /// ```
 pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstContact>> {
-    let store = &scene.spheres;
-    let times_only = options.with_geometry(false);
-    let mut best: Vec<Option<FirstContact>> = (0..store.len())
-        .map(|i| {
-            let s = store.get(i).expect("index below len");
-            // A sphere against itself has no relative motion: never a contact.
-            batch::earliest_sphere_contact(&s, store, times_only)
-        })
-        .collect();
-    fn merge<K: StaticShape>(
-        best: &mut [Option<FirstContact>],
-        store: &SphereStore,
-        shapes: &[K],
-        options: QueryOptions,
-    ) {
-        for (slot, first) in best
-            .iter_mut()
-            .zip(batch::earliest_static_contacts(store, shapes, options))
-        {
-            if let Some(hit) = first
-                && slot.is_none_or(|b| hit.time < b.time)
-            {
-                *slot = Some(hit);
-            }
-        }
-    }
-    merge(&mut best, store, &scene.planes, times_only);
-    merge(&mut best, store, &scene.cylinders, times_only);
-    merge(&mut best, store, &scene.containers, times_only);
-    if options.geometry() {
-        for (i, slot) in best.iter_mut().enumerate() {
-            if let Some(hit) = slot {
-                hit.geometry = Some(geometry_of(scene, i, hit.body, hit.time.into()));
-            }
-        }
-    }
-    best
+    SceneQuery::new().first_contacts(scene, options)
 }
 
-fn geometry_of(scene: &Scene, i: usize, body: Body, t: f64) -> crate::Contact {
-    let sphere = scene.spheres.get(i).expect("index below len");
-    let other = scene.body(body).expect("a body the query found");
-    contact_at(&sphere, &other, t)
+/// Every contact in the window: [`SceneQuery::all_contacts`] on a new query.
+pub fn all_contacts(scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
+    SceneQuery::new().all_contacts(scene, options)
 }

@@ -313,6 +313,26 @@ impl SphereStore {
         Ok(())
     }
 
+    /// Makes this store hold `src`'s spheres in the order `order` (`order[k]` is the index in
+    /// `src` of the sphere that goes to position `k`; every index below `src.len()`), reusing
+    /// its buffers: the narrow phase then reads a broad phase's neighbours from nearby memory.
+    pub(crate) fn permute_from(&mut self, src: &SphereStore, order: &[u32]) {
+        let n = order.len();
+        self.len = n;
+        self.blocks.clear();
+        self.blocks.resize(n.div_ceil(PAD), SphereBlock::EMPTY);
+        self.mass.clear();
+        for (k, &i) in order.iter().enumerate() {
+            let (i, (b, lane)) = (i as usize, (k / PAD, k % PAD));
+            let (sb, sl) = (&src.blocks[i / PAD], i % PAD);
+            let d = &mut self.blocks[b];
+            (d.cx[lane], d.cy[lane], d.cz[lane]) = (sb.cx[sl], sb.cy[sl], sb.cz[sl]);
+            (d.vx[lane], d.vy[lane], d.vz[lane]) = (sb.vx[sl], sb.vy[sl], sb.vz[sl]);
+            d.r[lane] = sb.r[sl];
+            self.mass.push(src.mass[i]);
+        }
+    }
+
     /// Spheres `8k .. 8k + L::WIDTH` of lane group `k` (a group is `L::WIDTH` spheres; there
     /// are `padded_len() / L::WIDTH` of them).
     ///

@@ -22,7 +22,10 @@ fn main() {
     let cylinder = Cylinder::new([3.0, 0.0, 0.0], [3.5, 1.0, 1.0], 2.0).unwrap();
     let container = Container::new([0.0; 3], 80.0).unwrap();
     let mut out = vec![0.0f32; n];
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
     println!("kind       textbook ns  stable ns  double ns  stable/textbook  double/stable");
     for kind in ["sphere", "plane", "cylinder", "container"] {
         let mut best = [f64::INFINITY; 3];

@@ -1,3 +1,7 @@
 //! Helpers shared by spheresweep's criterion benchmarks (`cargo bench` at the repository
-//! root): the peer's calls live here, so that the benchmarks and `spheresweep bench` measure
-//! the same thing.
+//! root) and `spheresweep bench`: the scenes and pairs both measure, and the peer's calls, so
+//! that the two measure the same thing.
+
+pub mod narrow;
+pub mod peer;
+pub mod scenes;

@@ -1,6 +1,7 @@
 //! The `spheresweep` command-line tool: one subcommand a file.
 
 mod accuracy;
+mod bench;
 mod demo;
 mod picture;
 
@@ -19,6 +20,9 @@ struct Cli {
 enum Command {
     /// Query the built-in demo scene for every sphere's first contact and print a table.
     Demo(demo::Args),
+    /// Throughput of every kernel and mode, the broad phase and the whole query, each against
+    /// parry3d in the same run, one thread (`--quick` for a run under a minute, `--json`).
+    Bench(bench::Args),
     /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
     /// throughput from the same run; write docs/accuracy.md and its SVG plot.
     Accuracy(accuracy::Args),
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => demo::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
+        Command::Bench(args) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,52 @@
+//! Time per sphere of the whole query's stages on a uniform gas (one thread), to see where a
+//! query's time goes: `cargo run --release -p spheresweep-bench --example query_stages [N]`.
+
+use std::time::Instant;
+
+use spheresweep::broad::{Grid, GridOptions};
+use spheresweep::query::SceneQuery;
+use spheresweep::scene::Scene;
+use spheresweep::{Accuracy, QueryOptions, batch};
+use spheresweep_bench::scenes;
+
+fn main() {
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(100_000);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let store = scenes::uniform_gas(n, 0.3, 7);
+        let t_max = 0.5;
+        let best = |f: &mut dyn FnMut()| {
+            (0..7)
+                .map(|_| {
+                    let s = Instant::now();
+                    f();
+                    s.elapsed().as_secs_f64() * 1e9 / n as f64
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut grid = Grid::new();
+        let g = best(&mut || grid.build(&store, t_max, GridOptions::default()));
+        let pairs = grid.pairs().to_vec();
+        let mut times = vec![0.0; pairs.len()];
+        let options = QueryOptions::new(t_max, Accuracy::Stable).unwrap();
+        let p = best(&mut || batch::pair_times(&store, &pairs, options, &mut times).unwrap());
+        let scene = Scene {
+            spheres: store,
+            ..Scene::default()
+        };
+        let mut query = SceneQuery::new();
+        let q = best(&mut || {
+            std::hint::black_box(query.first_contacts(&scene, options));
+        });
+        println!(
+            "N = {n}: grid {g:.1} ns/sphere, pair_times {p:.1} ns/sphere ({:.2} pairs/sphere), whole query {q:.1} ns/sphere",
+            pairs.len() as f64 / n as f64
+        );
+    });
+}

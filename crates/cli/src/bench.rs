@@ -1,0 +1,336 @@
+//! `spheresweep bench`: a quick, self-contained throughput report — every kernel and mode
+//! against parry3d's `cast_shapes`, the broad phase against parry3d's `Bvh`, and the whole
+//! first-contact query against parry's `Bvh` + `cast_shapes` — measured side by side in one
+//! run, one thread, best of several interleaved timings, printed with the ratios.
+
+use std::error::Error;
+use std::hint::black_box;
+use std::io::Write;
+use std::time::{Duration, Instant};
+
+use spheresweep::broad::{Grid, GridOptions};
+use spheresweep::query::SceneQuery;
+use spheresweep::scene::Scene;
+use spheresweep::{Accuracy, QueryOptions};
+use spheresweep_bench::narrow::{self, T_MAX};
+use spheresweep_bench::peer::{ParryIncremental, ParryQuery, ParryRebuild};
+use spheresweep_bench::scenes;
+
+/// Options of `spheresweep bench`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Smaller sizes and shorter timings: finishes in well under a minute.
+    #[arg(long)]
+    quick: bool,
+    /// Print the results as JSON (one object) instead of tables.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One measured line: what, how big, ns per item, and the peer's ns per item if it has one.
+struct Line {
+    group: &'static str,
+    name: String,
+    n: usize,
+    ns: f64,
+    peer_ns: Option<f64>,
+    note: String,
+}
+
+/// The SIMD level this binary was compiled for.
+fn simd_level() -> &'static str {
+    if cfg!(target_feature = "avx512f") {
+        "AVX-512"
+    } else if cfg!(all(target_feature = "avx2", target_feature = "fma")) {
+        "AVX2 + FMA (x86-64-v3)"
+    } else if cfg!(target_feature = "avx") {
+        "AVX"
+    } else if cfg!(target_feature = "sse2") {
+        "SSE2"
+    } else {
+        "scalar"
+    }
+}
+
+/// Best time per item of `f` over `rounds` timings of at least `min` each.
+fn best_ns(items: usize, rounds: usize, min: Duration, mut f: impl FnMut()) -> f64 {
+    let mut best = f64::INFINITY;
+    f();
+    for _ in 0..rounds {
+        let (start, mut reps) = (Instant::now(), 0u32);
+        while reps == 0 || start.elapsed() < min {
+            f();
+            reps += 1;
+        }
+        let ns = start.elapsed().as_secs_f64() * 1e9 / (f64::from(reps) * items as f64);
+        best = best.min(ns);
+    }
+    best
+}
+
+pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let (rounds, min) = if args.quick {
+        (5, Duration::from_millis(20))
+    } else {
+        (11, Duration::from_millis(60))
+    };
+    let mut lines = Vec::new();
+    let progress = indicatif::ProgressBar::new(if args.quick { 8 } else { 12 });
+    progress.set_style(indicatif::ProgressStyle::with_template(
+        "{spinner} {wide_bar} {pos}/{len} {msg}",
+    )?);
+    if args.json {
+        progress.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    pool.install(|| {
+        narrow_lines(&mut lines, rounds, min, &progress);
+        broad_lines(&mut lines, args.quick, rounds, min, &progress);
+    });
+    progress.finish_and_clear();
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", json(&lines))?;
+    } else {
+        write_tables(&mut out, &lines)?;
+    }
+    Ok(())
+}
+
+fn narrow_lines(
+    lines: &mut Vec<Line>,
+    rounds: usize,
+    min: Duration,
+    progress: &indicatif::ProgressBar,
+) {
+    let n = 4096;
+    let mut out = vec![0.0f32; n];
+    let pairs = narrow::SpherePairs::new(n, 1);
+    progress.set_message("sphere pairs");
+    let peer = best_ns(n, rounds, min, || {
+        pairs.parry(&mut out);
+        black_box(&mut out);
+    });
+    for mode in Accuracy::ALL {
+        let options = QueryOptions::new(T_MAX, mode).expect("valid window");
+        let ns = best_ns(n, rounds, min, || {
+            pairs.ours(options, &mut out);
+            black_box(&mut out);
+        });
+        lines.push(Line {
+            group: "narrow phase, in cache (4096 pairs)",
+            name: format!("sphere-sphere {mode}"),
+            n,
+            ns,
+            peer_ns: Some(peer),
+            note: "parry cast_shapes".into(),
+        });
+    }
+    progress.inc(1);
+    fn statics<K: spheresweep::batch::StaticShape>(
+        lines: &mut Vec<Line>,
+        kind: &str,
+        set: &narrow::AgainstStatic<K>,
+        rounds: usize,
+        min: Duration,
+    ) {
+        let n = set.spheres.len();
+        let mut out = vec![0.0f32; n];
+        let peer = set.has_peer().then(|| {
+            best_ns(n, rounds, min, || {
+                set.parry(&mut out);
+                black_box(&mut out);
+            })
+        });
+        for mode in Accuracy::ALL {
+            let options = QueryOptions::new(T_MAX, mode).expect("valid window");
+            let ns = best_ns(n, rounds, min, || {
+                set.ours(options, &mut out);
+                black_box(&mut out);
+            });
+            lines.push(Line {
+                group: "narrow phase, in cache (4096 pairs)",
+                name: format!("{kind} {mode}"),
+                n,
+                ns,
+                peer_ns: peer,
+                note: if peer.is_some() {
+                    "parry cast_shapes".into()
+                } else {
+                    "parry has no inside-of-a-ball cast".into()
+                },
+            });
+        }
+    }
+    progress.set_message("planes");
+    statics(lines, "sphere-plane", &narrow::plane(n, 2), rounds, min);
+    progress.inc(1);
+    progress.set_message("cylinders");
+    statics(
+        lines,
+        "sphere-cylinder",
+        &narrow::cylinder(n, 2),
+        rounds,
+        min,
+    );
+    progress.inc(1);
+    progress.set_message("containers");
+    statics(
+        lines,
+        "sphere-container",
+        &narrow::container(n, 2),
+        rounds,
+        min,
+    );
+    progress.inc(1);
+}
+
+fn broad_lines(
+    lines: &mut Vec<Line>,
+    quick: bool,
+    rounds: usize,
+    min: Duration,
+    progress: &indicatif::ProgressBar,
+) {
+    let sizes: &[usize] = if quick {
+        &[10_000, 100_000]
+    } else {
+        &[1_000, 10_000, 100_000, 1_000_000]
+    };
+    let t_max = scenes::window(0.5);
+    for &n in sizes {
+        progress.set_message(format!("broad phase and query, N = {n}"));
+        let store = scenes::uniform_gas(n, 0.3, 7);
+        let (rounds, min) = if n >= 1_000_000 {
+            (3, Duration::ZERO)
+        } else {
+            (rounds, min)
+        };
+        let mut grid = Grid::new();
+        let ours = best_ns(n, rounds, min, || {
+            grid.build(&store, t_max, GridOptions::default());
+            black_box(grid.pairs().len());
+        });
+        let candidates = grid.pairs().len();
+        let (lo, hi): (Vec<[f32; 3]>, Vec<[f32; 3]>) = store
+            .iter()
+            .map(|s| {
+                let (c, e, r) = (s.centre(), s.centre_at(t_max), s.radius());
+                ((c.min(e) - r).to_array(), (c.max(e) + r).to_array())
+            })
+            .unzip();
+        let mut incremental = ParryIncremental::new();
+        incremental.count(&lo, &hi);
+        let mut peer_pairs = 0;
+        let peer = best_ns(n, rounds, min, || {
+            peer_pairs = incremental.count(&lo, &hi);
+        });
+        lines.push(Line {
+            group: "broad phase (uniform gas, phi 0.3, half a radius of travel)",
+            name: format!("grid vs Bvh incremental, N = {n}"),
+            n,
+            ns: ours,
+            peer_ns: Some(peer),
+            note: format!(
+                "{:.2} / {:.2} candidates per sphere",
+                candidates as f64 / n as f64,
+                peer_pairs as f64 / n as f64
+            ),
+        });
+        if n <= 100_000 {
+            let mut rebuild = ParryRebuild::new();
+            let peer = best_ns(n, rounds.min(3), Duration::ZERO, || {
+                black_box(rebuild.count(&lo, &hi));
+            });
+            lines.push(Line {
+                group: "broad phase (uniform gas, phi 0.3, half a radius of travel)",
+                name: format!("grid vs Bvh rebuilt, N = {n}"),
+                n,
+                ns: ours,
+                peer_ns: Some(peer),
+                note: String::new(),
+            });
+        }
+        let scene = Scene {
+            spheres: store,
+            ..Scene::default()
+        };
+        let options = QueryOptions::new(t_max, Accuracy::Stable).expect("valid window");
+        let mut query = SceneQuery::new();
+        let ours = best_ns(n, rounds, min, || {
+            black_box(query.first_contacts(&scene, options));
+        });
+        let mut parry = ParryQuery::new();
+        let mut out = vec![0.0f32; n];
+        parry.first_contacts(&scene.spheres, t_max, &mut out);
+        let peer = best_ns(n, rounds.min(5), Duration::ZERO, || {
+            parry.first_contacts(&scene.spheres, t_max, &mut out);
+        });
+        lines.push(Line {
+            group: "whole query: first contact per sphere (stable)",
+            name: format!("N = {n}"),
+            n,
+            ns: ours,
+            peer_ns: Some(peer),
+            note: "parry Bvh incremental + cast_shapes".into(),
+        });
+        progress.inc(2);
+    }
+}
+
+fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "spheresweep {} — built for {}; one thread; {} cores available",
+        env!("CARGO_PKG_VERSION"),
+        simd_level(),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    )?;
+    let mut group = "";
+    for l in lines {
+        if l.group != group {
+            group = l.group;
+            writeln!(out, "\n{group}")?;
+            writeln!(
+                out,
+                "  {:<40} {:>12} {:>12} {:>10}",
+                "", "ns / item", "peer ns", "× peer"
+            )?;
+        }
+        let (peer, ratio) = match l.peer_ns {
+            Some(p) => (format!("{p:.2}"), format!("{:.1}×", p / l.ns)),
+            None => ("–".into(), "–".into()),
+        };
+        writeln!(
+            out,
+            "  {:<40} {:>12.3} {:>12} {:>10}  {}",
+            l.name, l.ns, peer, ratio, l.note
+        )?;
+    }
+    Ok(())
+}
+
+fn json(lines: &[Line]) -> String {
+    let esc = |s: &str| s.replace('\\', "\\\\").replace('"', "\\\"");
+    let items: Vec<String> = lines
+        .iter()
+        .map(|l| {
+            format!(
+                "{{\"group\":\"{}\",\"name\":\"{}\",\"n\":{},\"ns_per_item\":{:.4},\"peer_ns_per_item\":{},\"ratio\":{},\"note\":\"{}\"}}",
+                esc(l.group),
+                esc(&l.name),
+                l.n,
+                l.ns,
+                l.peer_ns.map_or("null".into(), |p| format!("{p:.4}")),
+                l.peer_ns.map_or("null".into(), |p| format!("{:.3}", p / l.ns)),
+                esc(&l.note)
+            )
+        })
+        .collect();
+    format!(
+        "{{\"version\":\"{}\",\"simd\":\"{}\",\"threads\":1,\"lines\":[{}]}}",
+        env!("CARGO_PKG_VERSION"),
+        simd_level(),
+        items.join(",")
+    )
+}

@@ -1,0 +1,195 @@
+//! The broad phase: a uniform grid over the spheres' swept boxes that reports every candidate
+//! sphere pair exactly once, in cell order (`grid.rs` has the algorithm and why its stencil is
+//! correct). Planes, cylinders and containers stay out of the grid: every sphere meets them in
+//! the static-shape kernels directly.
+
+mod grid;
+
+pub use grid::{GridOptions, Layout};
+
+use crate::store::SphereStore;
+
+/// The uniform-grid broad phase over a store's spheres. It keeps its cell order and buffers
+/// between builds, so a scene that moved a little re-sorts with coherent memory access.
+///
+/// ```
+/// use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+/// let store = SphereStore::from_spheres(&[
+///     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+///     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+///     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// ]);
+/// let mut grid = Grid::new();
+/// grid.build(&store, 4.0, GridOptions::default());
+/// let pairs: Vec<[u32; 2]> = grid.pairs().iter().map(|&[p, q]| {
+///     let (i, j) = (grid.order()[p as usize], grid.order()[q as usize]);
+///     [i.min(j), i.max(j)]
+/// }).collect();
+/// assert_eq!(pairs, [[0, 1]]); // the far sphere's box overlaps nothing
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+#[derive(Default)]
+pub struct Grid {
+    inner: grid::Grid,
+}
+
+impl std::fmt::Debug for Grid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Grid")
+            .field("spheres", &self.order().len())
+            .field("pairs", &self.pairs().len())
+            .field("cell_size", &self.cell_size())
+            .field("oversize", &self.oversize())
+            .finish()
+    }
+}
+
+impl Grid {
+    /// An empty grid.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Rebuilds for the spheres of `store` over the window `[0, t_max]` (finite, `≥ 0`).
+    ///
+    /// # Panics
+    /// If `t_max` is not finite and `≥ 0`, or `options.cell_size` is given and not finite and
+    /// `> 0` (callers validate both; the scene query never passes an infinite window here).
+    pub fn build(&mut self, store: &SphereStore, t_max: f32, options: GridOptions) {
+        self.inner.build(grid::Columns::of(store), t_max, options);
+    }
+
+    /// Sphere indices in cell order.
+    pub fn order(&self) -> &[u32] {
+        self.inner.order()
+    }
+
+    /// Every candidate pair once, as positions `[p, q]` (`p < q`) in [`order`](Self::order).
+    pub fn pairs(&self) -> &[[u32; 2]] {
+        self.inner.pairs()
+    }
+
+    /// Edge of a cell in the last build.
+    pub fn cell_size(&self) -> f32 {
+        self.inner.cell_size()
+    }
+
+    /// Spheres on the oversize list in the last build (tested against all).
+    pub fn oversize(&self) -> usize {
+        self.inner.oversize()
+    }
+
+    /// Cells per axis of the last build (without the padding layer).
+    pub fn dims(&self) -> [u32; 3] {
+        self.inner.dims()
+    }
+
+    /// Cells in the last build's table (dense layout, padding included) or occupied cells
+    /// (sparse layout, for scenes too spread out for a dense table).
+    pub fn cells(&self) -> usize {
+        self.inner.cells()
+    }
+
+    /// Whether the last build used the sparse layout.
+    pub fn sparse(&self) -> bool {
+        self.inner.sparse()
+    }
+
+    /// Forgets the kept cell order (the next build sorts from the identity order).
+    pub fn reset_order(&mut self) {
+        self.inner.reset_order();
+    }
+
+    /// Bytes the grid holds on the heap (its buffers, grown to the largest scene so far).
+    pub fn heap_bytes(&self) -> usize {
+        self.inner.heap_bytes()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Sphere;
+    use crate::rng::Rng;
+
+    /// Every pair `i < j` whose swept boxes overlap, from the same float operations.
+    fn brute(store: &SphereStore, t_max: f32) -> Vec<[u32; 2]> {
+        let cols = grid::Columns::of(store);
+        let boxes: Vec<_> = (0..store.len())
+            .map(|i| grid::swept_box(&cols, i, t_max))
+            .collect();
+        let mut pairs = Vec::new();
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                let ((la, ha), (lb, hb)) = (boxes[i], boxes[j]);
+                if (0..3).all(|a| la[a] <= hb[a] && lb[a] <= ha[a]) {
+                    pairs.push([i as u32, j as u32]);
+                }
+            }
+        }
+        pairs
+    }
+
+    fn grid_pairs(store: &SphereStore, t_max: f32, options: GridOptions) -> Vec<[u32; 2]> {
+        let mut grid = Grid::new();
+        grid.build(store, t_max, options);
+        let mut pairs: Vec<[u32; 2]> = grid
+            .pairs()
+            .iter()
+            .map(|&[p, q]| {
+                let (i, j) = (grid.order()[p as usize], grid.order()[q as usize]);
+                [i.min(j), i.max(j)]
+            })
+            .collect();
+        let n = pairs.len();
+        pairs.sort_unstable();
+        pairs.dedup();
+        assert_eq!(pairs.len(), n, "a pair reported twice");
+        pairs
+    }
+
+    #[test]
+    fn grid_pairs_are_the_overlapping_boxes_exactly_once() {
+        let mut rng = Rng::new(1);
+        for (n, spread, speed, radii) in [
+            (0, 1.0, 1.0, (1.0, 1.0)),
+            (1, 1.0, 1.0, (1.0, 1.0)),
+            (700, 20.0, 1.0, (1.0, 1.0)),
+            (700, 20.0, 1.0, (0.01, 10.0)),
+            (700, 0.01, 1.0, (1.0, 1.0)),
+            (500, 1e4, 0.0, (1.0, 1.0)),
+            (600, 30.0, 50.0, (0.5, 0.5)),
+        ] {
+            let store: SphereStore = (0..n)
+                .map(|_| {
+                    let c = rng.cube(spread).as_vec3();
+                    let v = (rng.cube(1.0) * speed).as_vec3();
+                    let (lo, hi): (f64, f64) = radii;
+                    let r = lo * (hi / lo).powf(rng.unit());
+                    Sphere::new(c.into(), v.into(), r as f32, 1.0).unwrap()
+                })
+                .collect();
+            for t_max in [0.0, 0.5, 10.0] {
+                let expected = brute(&store, t_max);
+                assert_eq!(grid_pairs(&store, t_max, GridOptions::default()), expected);
+                // A forced small cell puts most spheres on the oversize list; each layout.
+                for layout in [Layout::Dense, Layout::Sparse] {
+                    let forced = GridOptions {
+                        cell_size: Some(0.3),
+                        layout,
+                    };
+                    assert_eq!(
+                        grid_pairs(&store, t_max, forced),
+                        expected,
+                        "n {n} t {t_max}"
+                    );
+                    let auto = GridOptions {
+                        cell_size: None,
+                        layout,
+                    };
+                    assert_eq!(grid_pairs(&store, t_max, auto), expected, "n {n} t {t_max}");
+                }
+            }
+        }
+    }
+}
