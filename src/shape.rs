@@ -1,7 +1,8 @@
 //! The four shapes of the seed, each built only through a validating constructor.
 //!
 //! Inputs are `f32` (the precision of the store and of the 8-wide kernels); the scalar
-//! reference widens them to `f64`. Directions (plane normal, cylinder axis) are normalised in
+//! reference widens them to `f64`. Every finite value is accepted, at any scale: the kernels
+//! answer pairs whose magnitudes leave f32's safe range in f64 (docs/derivations/range.md). Directions (plane normal, cylinder axis) are normalised in
 //! `f64` and rounded once to `f32`.
 
 use glam::{DVec3, Vec3};
