@@ -10,8 +10,8 @@ use spheresweep::{Accuracy, QueryOptions};
 /// Options of `spheresweep demo`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// End of the time window [0, t_max].
-    #[arg(long, default_value_t = 10.0)]
+    /// End of the time window [0, t_max] (zero or more; inf for no end).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     t_max: f32,
     /// Accuracy mode of the kernels: textbook, stable or double.
     #[arg(long, default_value_t = Accuracy::Stable)]
@@ -23,6 +23,10 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(true);
+    if let Some(path) = &args.svg {
+        // Before any output: a bad path fails now, not after the table.
+        crate::output::check_writable(path)?;
+    }
     let scene = demo();
     let mut out = std::io::stdout().lock();
     writeln!(out, "{}", describe(&scene))?;
@@ -61,8 +65,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     }
     if let Some(path) = &args.svg {
         let picture = super::picture::top_view(&scene, &contacts, args.t_max)?;
-        std::fs::write(path, picture)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        crate::output::write_atomic(path, picture.as_bytes())?;
         writeln!(out, "\nwrote {}", path.display())?;
     }
     Ok(())

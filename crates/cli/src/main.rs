@@ -3,6 +3,7 @@
 mod accuracy;
 mod bench;
 mod demo;
+mod output;
 mod picture;
 
 use clap::{Parser, Subcommand};

@@ -68,7 +68,7 @@ fn bad_arguments_fail_with_a_message_naming_them() {
     assert!(text(&out.stderr).contains("unknown accuracy mode \"fast\""));
     let out = run(&["accuracy", "--cases", "0"]);
     assert!(!out.status.success());
-    assert!(text(&out.stderr).contains("--cases must be at least 1"));
+    assert!(text(&out.stderr).contains("--cases must be between 1 and"));
 }
 
 #[test]
@@ -111,6 +111,90 @@ fn an_unwritable_report_is_an_error_not_lost_output() {
     assert!(!out.status.success());
     assert!(
         text(&out.stderr).contains("cannot write /proc/no-such-dir/report.md"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// A scratch directory of this test process.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("spheresweep-cli-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn an_unwritable_plot_leaves_an_existing_report_whole() {
+    let dir = scratch("keep");
+    let md = dir.join("report.md");
+    std::fs::write(&md, "the old report\n").unwrap();
+    let out = run(&[
+        "accuracy",
+        "--cases",
+        "10",
+        "--out",
+        md.to_str().unwrap(),
+        "--svg",
+        "/proc/no-such-dir/plot.svg",
+    ]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("cannot write /proc/no-such-dir/plot.svg"));
+    assert_eq!(std::fs::read_to_string(&md).unwrap(), "the old report\n");
+}
+
+#[test]
+fn one_path_for_both_outputs_is_refused() {
+    let dir = scratch("same");
+    let md = dir.join("x.md");
+    std::fs::write(&md, "kept\n").unwrap();
+    let p = md.to_str().unwrap();
+    let out = run(&["accuracy", "--cases", "10", "--out", p, "--svg", p]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("are the same file"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(std::fs::read_to_string(&md).unwrap(), "kept\n");
+}
+
+#[test]
+fn huge_case_counts_are_refused_before_any_work() {
+    for cases in ["999999999", "18446744073709551615", "0"] {
+        let out = run(&["accuracy", "--cases", cases, "--out", "/tmp/never.md"]);
+        assert!(!out.status.success(), "{cases}");
+        assert!(
+            text(&out.stderr).contains("--cases must be between 1 and"),
+            "{cases}: {}",
+            text(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn the_plot_goes_beside_the_report_by_default() {
+    let dir = scratch("beside");
+    let md = dir.join("sub/r.md");
+    let out = run(&["accuracy", "--cases", "20", "--out", md.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(dir.join("sub/r.svg").exists());
+}
+
+#[test]
+fn demo_checks_its_picture_path_before_printing() {
+    let dir = scratch("demo-dir");
+    let out = run(&["demo", "--svg", dir.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("is a directory"));
+    assert!(out.stdout.is_empty(), "nothing printed before the error");
+}
+
+#[test]
+fn a_negative_window_is_a_clear_error() {
+    let out = run(&["demo", "--t-max", "-1"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("t_max must be zero or more"),
         "{}",
         text(&out.stderr)
     );
