@@ -10,7 +10,7 @@ use crate::kernels::quadratic::Solver;
 use crate::kernels::{StaticKernel, against_static, sphere_pair};
 use crate::lanes::Lanes;
 use crate::shape::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
-use crate::store::{SphereLanes, SphereStore};
+use crate::store::{Gather, SphereLanes, SphereStore};
 
 struct Zip<'a, L, S> {
     a: &'a SphereStore,
@@ -31,14 +31,14 @@ impl<L: Lanes, S: Solver> LaneKernel for Zip<'_, L, S> {
     }
 }
 
-struct Listed<'a, L, S> {
-    store: &'a SphereStore,
+struct Listed<'a, L, S, G> {
+    store: &'a G,
     pairs: &'a [[u32; 2]],
     t_max: L,
     solver: PhantomData<S>,
 }
 
-impl<L: Lanes, S: Solver> LaneKernel for Listed<'_, L, S> {
+impl<L: Lanes, S: Solver, G: Gather> LaneKernel for Listed<'_, L, S, G> {
     type Item = f32;
     const WIDTH: usize = L::WIDTH;
     #[inline(always)]
@@ -140,17 +140,28 @@ pub fn pair_times(
     options: QueryOptions,
     out: &mut [f32],
 ) -> Result<(), BatchError> {
+    listed_times(store, pairs, options, out)
+}
+
+/// [`pair_times`] over any gather source (the store, or packed records in a broad phase's
+/// cell order).
+pub(crate) fn listed_times<G: Gather>(
+    store: &G,
+    pairs: &[[u32; 2]],
+    options: QueryOptions,
+    out: &mut [f32],
+) -> Result<(), BatchError> {
     check_output(pairs.len(), out)?;
     for (pair, ij) in pairs.iter().enumerate() {
-        if let Some(&index) = ij.iter().find(|&&k| k as usize >= store.len()) {
+        if let Some(&index) = ij.iter().find(|&&k| k as usize >= store.count()) {
             return Err(BatchError::IndexOutOfRange {
                 pair,
                 index,
-                len: store.len(),
+                len: store.count(),
             });
         }
     }
-    fn run<L: Lanes, S: Solver>(store: &SphereStore, pairs: &[[u32; 2]], t: f32, o: &mut [f32]) {
+    fn run<L: Lanes, S: Solver, G: Gather>(store: &G, pairs: &[[u32; 2]], t: f32, o: &mut [f32]) {
         let (t_max, solver) = (L::splat(t), PhantomData::<S>);
         fill(
             o,
@@ -162,7 +173,10 @@ pub fn pair_times(
             },
         );
     }
-    with_mode!(options.accuracy(), run(store, pairs, options.t_max(), out));
+    with_mode!(
+        options.accuracy(),
+        run::<G>(store, pairs, options.t_max(), out)
+    );
     Ok(())
 }
 

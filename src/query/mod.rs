@@ -24,7 +24,7 @@ use crate::broad::{Grid, GridOptions};
 use crate::contact::{Body, Contact, contact_at};
 use crate::scene::Scene;
 use crate::shape::ShapeKind;
-use crate::store::SphereStore;
+use crate::store::{PackedSpheres, SphereStore};
 
 /// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
 /// `sphere` is the lower index and each pair appears once.
@@ -72,9 +72,11 @@ pub struct QueryStats {
 pub struct SceneQuery {
     grid: Grid,
     options: GridOptions,
-    sorted: SphereStore,
+    packed: PackedSpheres,
+    sorted: PackedSpheres,
     pairs: Vec<[u32; 2]>,
     times: Vec<f32>,
+    earliest: Vec<(f32, Body)>,
     stats: QueryStats,
 }
 
@@ -104,21 +106,58 @@ impl SceneQuery {
         scene: &Scene,
         options: QueryOptions,
     ) -> Vec<Option<FirstContact>> {
+        let mut best = Vec::new();
+        self.first_contacts_into(scene, options, &mut best);
+        best
+    }
+
+    /// [`first_contacts`](Self::first_contacts) into a vector the caller keeps between calls
+    /// (cleared, then one entry per sphere): no allocation once it has grown, and no fresh
+    /// pages to fault in — at a million spheres that is most of the output's cost.
+    pub fn first_contacts_into(
+        &mut self,
+        scene: &Scene,
+        options: QueryOptions,
+        best: &mut Vec<Option<FirstContact>>,
+    ) {
         let n = scene.spheres.len();
-        let mut best: Vec<Option<FirstContact>> = vec![None; n];
         self.sphere_pairs(scene, options);
+        // Reduce in cell order, where a pair's two spheres sit near each other in memory, on
+        // compact (time, body) records; then scatter once to the scene's order.
+        let none = (f32::INFINITY, Body::new(ShapeKind::Sphere, u32::MAX));
+        self.earliest.clear();
+        self.earliest.resize(n, none);
         for (&[p, q], &time) in self.pairs.iter().zip(&self.times) {
             if !time.is_finite() {
                 continue;
             }
             let (i, j) = (self.index(p), self.index(q));
-            offer(&mut best[i as usize], time, Body::new(ShapeKind::Sphere, j));
-            offer(&mut best[j as usize], time, Body::new(ShapeKind::Sphere, i));
+            keep_earlier(
+                &mut self.earliest[p as usize],
+                time,
+                Body::new(ShapeKind::Sphere, j),
+            );
+            keep_earlier(
+                &mut self.earliest[q as usize],
+                time,
+                Body::new(ShapeKind::Sphere, i),
+            );
+        }
+        best.clear();
+        best.resize(n, None);
+        for (p, &(time, body)) in self.earliest.iter().enumerate() {
+            if time.is_finite() {
+                best[self.index(p as u32) as usize] = Some(FirstContact {
+                    time,
+                    body,
+                    geometry: None,
+                });
+            }
         }
         let times_only = options.with_geometry(false);
-        merge_static(&mut best, &scene.spheres, &scene.planes, times_only);
-        merge_static(&mut best, &scene.spheres, &scene.cylinders, times_only);
-        merge_static(&mut best, &scene.spheres, &scene.containers, times_only);
+        merge_static(best, &scene.spheres, &scene.planes, times_only);
+        merge_static(best, &scene.spheres, &scene.cylinders, times_only);
+        merge_static(best, &scene.spheres, &scene.containers, times_only);
         if options.geometry() {
             for (i, slot) in best.iter_mut().enumerate() {
                 if let Some(hit) = slot {
@@ -126,7 +165,6 @@ impl SceneQuery {
                 }
             }
         }
-        best
     }
 
     /// Every contact in the window: each sphere pair once (the lower index first), and every
@@ -182,17 +220,20 @@ impl SceneQuery {
         if use_grid {
             self.grid.build(store, t_max, self.options);
             self.pairs.extend_from_slice(self.grid.pairs());
-            self.sorted.permute_from(store, self.grid.order());
+            // Packed records first (one pass in order), then gathered into cell order: one
+            // cache line per scattered sphere instead of the blocks' seven.
+            self.packed.pack(store);
+            self.sorted.permute_from(&self.packed, self.grid.order());
         } else {
             // No cull: every pair, in index order.
             for i in 0..n as u32 {
                 self.pairs.extend((i + 1..n as u32).map(|j| [i, j]));
             }
-            self.sorted.clone_from(store);
+            self.sorted.pack(store);
         }
         self.times.clear();
         self.times.resize(self.pairs.len(), 0.0);
-        batch::pair_times(&self.sorted, &self.pairs, options, &mut self.times)
+        batch::pairs::listed_times(&self.sorted, &self.pairs, options, &mut self.times)
             .expect("the broad phase's positions are in range and one slot per pair");
         self.stats = QueryStats {
             spheres: n,
@@ -201,6 +242,14 @@ impl SceneQuery {
             oversize: if use_grid { self.grid.oversize() } else { 0 },
             grid: use_grid,
         };
+    }
+}
+
+/// Keeps the earlier contact; at equal times the lower body (kind, then index).
+#[inline]
+fn keep_earlier(slot: &mut (f32, Body), time: f32, body: Body) {
+    if time < slot.0 || (time == slot.0 && body < slot.1) {
+        *slot = (time, body);
     }
 }
 

@@ -313,26 +313,6 @@ impl SphereStore {
         Ok(())
     }
 
-    /// Makes this store hold `src`'s spheres in the order `order` (`order[k]` is the index in
-    /// `src` of the sphere that goes to position `k`; every index below `src.len()`), reusing
-    /// its buffers: the narrow phase then reads a broad phase's neighbours from nearby memory.
-    pub(crate) fn permute_from(&mut self, src: &SphereStore, order: &[u32]) {
-        let n = order.len();
-        self.len = n;
-        self.blocks.clear();
-        self.blocks.resize(n.div_ceil(PAD), SphereBlock::EMPTY);
-        self.mass.clear();
-        for (k, &i) in order.iter().enumerate() {
-            let (i, (b, lane)) = (i as usize, (k / PAD, k % PAD));
-            let (sb, sl) = (&src.blocks[i / PAD], i % PAD);
-            let d = &mut self.blocks[b];
-            (d.cx[lane], d.cy[lane], d.cz[lane]) = (sb.cx[sl], sb.cy[sl], sb.cz[sl]);
-            (d.vx[lane], d.vy[lane], d.vz[lane]) = (sb.vx[sl], sb.vy[sl], sb.vz[sl]);
-            d.r[lane] = sb.r[sl];
-            self.mass.push(src.mass[i]);
-        }
-    }
-
     /// Spheres `8k .. 8k + L::WIDTH` of lane group `k` (a group is `L::WIDTH` spheres; there
     /// are `padded_len() / L::WIDTH` of them).
     ///
@@ -355,6 +335,77 @@ impl SphereStore {
             (g.cx[k], g.cy[k], g.cz[k]) = (b.cx[lane], b.cy[lane], b.cz[lane]);
             (g.vx[k], g.vy[k], g.vz[k]) = (b.vx[lane], b.vy[lane], b.vz[lane]);
             g.r[k] = b.r[lane];
+        }
+        SphereLanes::load(&g, 0)
+    }
+}
+
+/// One sphere as one aligned 32-byte record (`c`, `v`, `r`, padding): what a gather of
+/// scattered spheres reads — one cache line per sphere, where the blocks spread a sphere over
+/// seven.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct Packed(pub(crate) [f32; 8]);
+
+/// Spheres as packed records, for the gathers of a broad phase's candidate pairs.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PackedSpheres(pub(crate) Vec<Packed>);
+
+impl PackedSpheres {
+    /// Refills with the spheres of `store`, in order (one sequential pass).
+    pub(crate) fn pack(&mut self, store: &SphereStore) {
+        self.0.clear();
+        self.0.reserve(store.len());
+        for (k, b) in store.blocks.iter().enumerate() {
+            let lanes = PAD.min(store.len - k * PAD);
+            self.0.extend((0..lanes).map(|l| {
+                Packed([
+                    b.cx[l], b.cy[l], b.cz[l], b.vx[l], b.vy[l], b.vz[l], b.r[l], 0.0,
+                ])
+            }));
+        }
+    }
+
+    /// Refills with `src`'s records in the order `order` (`order[k]` goes to position `k`).
+    pub(crate) fn permute_from(&mut self, src: &PackedSpheres, order: &[u32]) {
+        self.0.clear();
+        self.0.extend(order.iter().map(|&i| src.0[i as usize]));
+    }
+}
+
+/// Where a batch driver gathers the spheres of listed pairs from.
+pub(crate) trait Gather: Sync {
+    /// Number of spheres.
+    fn count(&self) -> usize;
+    /// The spheres at `indices` (at most `L::WIDTH`, each below [`count`](Gather::count)) as
+    /// lanes; missing lanes are NaN.
+    fn gather<L: Lanes>(&self, indices: impl Iterator<Item = usize>) -> SphereLanes<L>;
+}
+
+impl Gather for SphereStore {
+    #[inline]
+    fn count(&self) -> usize {
+        self.len
+    }
+    #[inline(always)]
+    fn gather<L: Lanes>(&self, indices: impl Iterator<Item = usize>) -> SphereLanes<L> {
+        SphereStore::gather(self, indices)
+    }
+}
+
+impl Gather for PackedSpheres {
+    #[inline]
+    fn count(&self) -> usize {
+        self.0.len()
+    }
+    #[inline(always)]
+    fn gather<L: Lanes>(&self, indices: impl Iterator<Item = usize>) -> SphereLanes<L> {
+        let mut g = SphereBlock::EMPTY;
+        for (k, i) in indices.take(L::WIDTH).enumerate() {
+            let [cx, cy, cz, vx, vy, vz, r, _] = self.0[i].0;
+            (g.cx[k], g.cy[k], g.cz[k]) = (cx, cy, cz);
+            (g.vx[k], g.vy[k], g.vz[k]) = (vx, vy, vz);
+            g.r[k] = r;
         }
         SphereLanes::load(&g, 0)
     }

@@ -31,13 +31,21 @@ fn query(c: &mut Criterion) {
             g.sample_size(10);
             g.warm_up_time(Duration::from_millis(300));
             g.measurement_time(Duration::from_secs(if n >= 1_000_000 { 5 } else { 2 }));
-            let mut ours = SceneQuery::new();
+            let (mut ours, mut out1) = (SceneQuery::new(), Vec::new());
             g.bench_function(format!("stable/{n}"), |b| {
-                pool.install(|| b.iter(|| black_box(ours.first_contacts(&scene, options))))
+                pool.install(|| {
+                    b.iter(|| {
+                        ours.first_contacts_into(&scene, options, &mut out1);
+                        black_box(&out1);
+                    })
+                })
             });
-            let mut ours2 = SceneQuery::new();
+            let (mut ours2, mut out2) = (SceneQuery::new(), Vec::new());
             g.bench_function(format!("stable-2-threads/{n}"), |b| {
-                b.iter(|| black_box(ours2.first_contacts(&scene, options)))
+                b.iter(|| {
+                    ours2.first_contacts_into(&scene, options, &mut out2);
+                    black_box(&out2);
+                })
             });
             let mut parry = ParryQuery::new();
             let mut out = vec![0.0f32; n];

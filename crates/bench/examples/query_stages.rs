@@ -14,6 +14,7 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(100_000);
+    output_cost(n);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -41,12 +42,25 @@ fn main() {
             ..Scene::default()
         };
         let mut query = SceneQuery::new();
+        let mut out = Vec::new();
         let q = best(&mut || {
-            std::hint::black_box(query.first_contacts(&scene, options));
+            query.first_contacts_into(&scene, options, &mut out);
+            std::hint::black_box(&out);
         });
         println!(
             "N = {n}: grid {g:.1} ns/sphere, pair_times {p:.1} ns/sphere ({:.2} pairs/sphere), whole query {q:.1} ns/sphere",
             pairs.len() as f64 / n as f64
         );
     });
+}
+
+fn output_cost(n: usize) {
+    let s = Instant::now();
+    let v: Vec<Option<spheresweep::FirstContact>> = vec![None; n];
+    std::hint::black_box(&v);
+    println!(
+        "output Vec<Option<FirstContact>>: {} B per sphere, {:.1} ns/sphere to allocate and fill",
+        std::mem::size_of::<Option<spheresweep::FirstContact>>(),
+        s.elapsed().as_secs_f64() * 1e9 / n as f64
+    );
 }
