@@ -191,10 +191,10 @@ pub fn swept_box(cols: &Columns<'_>, i: usize, t_max: f32) -> ([f32; 3], [f32; 3
     (lo, hi)
 }
 
-/// Options for [`Grid::build`].
+/// Options for [`Grid::build`](crate::broad::Grid::build).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GridOptions {
-    /// Cell edge length. `None` picks it automatically (see the [module docs](self): the
+    /// Cell edge length. `None` picks it automatically (see [`crate::broad`]: the
     /// largest box extent that minimises estimated box tests, with outliers going to the
     /// oversize list). `Some(s)` must be finite and `> 0`; spheres whose box is larger become
     /// oversize. Either way the cell cap (`2 N + 1024` cells) may grow it.
@@ -203,7 +203,7 @@ pub struct GridOptions {
     pub layout: Layout,
 }
 
-/// How [`Grid::build`] indexes its cells.
+/// How [`Grid::build`](crate::broad::Grid::build) indexes its cells.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Layout {
     /// Dense, except when the cell cap grew the cells more than twofold (even after trimming

@@ -11,7 +11,8 @@
 
 use spheresweep::batch::{static_times, zip_times};
 use spheresweep::rng::Rng;
-use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions, Sphere, SphereStore};
+use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions, SphereStore};
+use spheresweep_bench::narrow::random_sphere;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -29,12 +30,8 @@ fn main() {
     };
     let n = 4096;
     let mut rng = Rng::new(1);
-    let sphere = |rng: &mut Rng| {
-        let (c, v, r) = (rng.cube(40.0), rng.cube(4.0), rng.range(0.2, 1.5));
-        Sphere::new(c.as_vec3().into(), v.as_vec3().into(), r as f32, 1.0).unwrap()
-    };
-    let a: SphereStore = (0..n).map(|_| sphere(&mut rng)).collect();
-    let b: SphereStore = (0..n).map(|_| sphere(&mut rng)).collect();
+    let a: SphereStore = (0..n).map(|_| random_sphere(&mut rng, 40.0, 4.0)).collect();
+    let b: SphereStore = (0..n).map(|_| random_sphere(&mut rng, 40.0, 4.0)).collect();
     let q = QueryOptions::new(4.0, mode).unwrap();
     let mut out = vec![0.0f32; n];
     let plane = Plane::new([1.0, 2.0, -30.0], [0.1, 0.2, 1.0]).unwrap();

@@ -7,17 +7,14 @@ use std::time::Instant;
 
 use spheresweep::batch::{static_times, zip_times};
 use spheresweep::rng::Rng;
-use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions, Sphere, SphereStore};
+use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions, SphereStore};
+use spheresweep_bench::narrow::random_sphere;
 
 fn main() {
     let n = 4096;
     let mut rng = Rng::new(1);
-    let sphere = |rng: &mut Rng| {
-        let (c, v, r) = (rng.cube(40.0), rng.cube(4.0), rng.range(0.2, 1.5));
-        Sphere::new(c.as_vec3().into(), v.as_vec3().into(), r as f32, 1.0).unwrap()
-    };
-    let a: SphereStore = (0..n).map(|_| sphere(&mut rng)).collect();
-    let b: SphereStore = (0..n).map(|_| sphere(&mut rng)).collect();
+    let a: SphereStore = (0..n).map(|_| random_sphere(&mut rng, 40.0, 4.0)).collect();
+    let b: SphereStore = (0..n).map(|_| random_sphere(&mut rng, 40.0, 4.0)).collect();
     let plane = Plane::new([1.0, 2.0, -30.0], [0.1, 0.2, 1.0]).unwrap();
     let cylinder = Cylinder::new([3.0, 0.0, 0.0], [3.5, 1.0, 1.0], 2.0).unwrap();
     let container = Container::new([0.0; 3], 80.0).unwrap();

@@ -85,7 +85,7 @@ pub struct PathResult {
     pub false_zero: usize,
     /// `|t − t*|` in f32 ulps of `t*`, over pairs both call hits with `t* > 0`.
     pub time_ulps: Summary,
-    /// `|t − t*| / κ` (ulps per unit of the condition number, [`crate::condition`]) over the
+    /// `|t − t*| / κ` (ulps per unit of the condition number, [`crate::condition`](mod@crate::condition)) over the
     /// same pairs among the first [`CONDITION_CASES`] cases, where `κ` is finite: about the
     /// number of ulps each input would have to move for the answer to be exact. Small on an
     /// ill-conditioned family answered by an accurate kernel.

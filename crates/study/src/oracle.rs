@@ -50,7 +50,7 @@ fn to_f64(x: &RBig) -> f64 {
 /// and radius; a plane's point and normal; a cylinder's axis point, axis and radius; a
 /// container's centre and radius. The oracle reads a pair only through them, so that one
 /// input can be moved by an ulp without going through a constructor (which would normalise a
-/// normal or an axis again): [`super::condition`].
+/// normal or an axis again): [`super::condition`](mod@super::condition).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inputs {
     kind: ShapeKind,
