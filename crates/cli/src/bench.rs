@@ -256,9 +256,10 @@ fn broad_lines(
             ..Scene::default()
         };
         let options = QueryOptions::new(t_max, Accuracy::Stable).expect("valid window");
-        let mut query = SceneQuery::new();
+        let (mut query, mut firsts) = (SceneQuery::new(), Vec::new());
         let ours = best_ns(n, rounds, min, || {
-            black_box(query.first_contacts(&scene, options));
+            query.first_contacts_into(&scene, options, &mut firsts);
+            black_box(&firsts);
         });
         let mut parry = ParryQuery::new();
         let mut out = vec![0.0f32; n];
@@ -286,8 +287,17 @@ fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
         simd_level(),
         std::thread::available_parallelism().map_or(1, |n| n.get())
     )?;
-    let mut group = "";
+    // Each group once, in order of first appearance.
+    let mut groups: Vec<&str> = Vec::new();
     for l in lines {
+        if !groups.contains(&l.group) {
+            groups.push(l.group);
+        }
+    }
+    let mut sorted: Vec<&Line> = lines.iter().collect();
+    sorted.sort_by_key(|l| groups.iter().position(|g| *g == l.group));
+    let mut group = "";
+    for l in sorted {
         if l.group != group {
             group = l.group;
             writeln!(out, "\n{group}")?;
