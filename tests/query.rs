@@ -61,8 +61,16 @@ fn with_statics(spheres: SphereStore, side: f32) -> Scene {
             Plane::new([0.0, 0.0, -side], [0.0, 0.0, 1.0]).unwrap(),
             Plane::new([side, 0.0, 0.0], [-1.0, 0.2, 0.0]).unwrap(),
         ],
-        cylinders: vec![Cylinder::from_axis([0.0; 3], [0.0, 0.0, 1.0], side / 10.0).unwrap()],
-        containers: vec![Container::new([0.0; 3], 1.5 * side).unwrap()],
+        // Several of a kind: the statics stage then culls shapes a lane group cannot reach.
+        cylinders: vec![
+            Cylinder::from_axis([0.0; 3], [0.0, 0.0, 1.0], side / 10.0).unwrap(),
+            Cylinder::from_axis([side / 2.0, 0.0, 0.0], [0.0, 0.3, 1.0], side / 20.0).unwrap(),
+            Cylinder::from_axis([-side / 2.0, side / 3.0, 0.0], [1.0, 0.0, 0.2], 1.0).unwrap(),
+        ],
+        containers: vec![
+            Container::new([0.0; 3], 1.5 * side).unwrap(),
+            Container::new([1.0, 0.0, 0.0], 1.2 * side).unwrap(),
+        ],
     }
 }
 

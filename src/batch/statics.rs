@@ -146,6 +146,7 @@ struct EarliestOf<'a, L: Lanes, S, K: StaticShape> {
     originals: &'a [K],
     shapes: Vec<K::Lanes<L>>,
     t_max: L,
+    t_max_f32: f32,
     solver: PhantomData<S>,
 }
 
@@ -158,7 +159,17 @@ impl<L: Lanes, S: Solver, K: StaticShape> LaneKernel for EarliestOf<'_, L, S, K>
         let s = self.spheres.lanes::<L>(g);
         let mut best = L::splat(f32::INFINITY);
         let mut best_j = L::index_splat(0);
+        // With several shapes, one box around the group's swept spheres lets a shape the group
+        // cannot reach skip its kernel (the lanes would all be +∞).
+        let cull = (self.shapes.len() > 1)
+            .then(|| group_box(self.spheres, i..i + out.len(), self.t_max_f32))
+            .flatten();
         for (j, (shape, original)) in self.shapes.iter().zip(self.originals).enumerate() {
+            if let Some((lo, hi)) = cull
+                && !original.may_reach(lo, hi)
+            {
+                continue;
+            }
             let reload = || self.spheres.lanes::<L>(g);
             let t = against_static::<L, S, K>(&s, shape, original, self.t_max, reload);
             let sooner = t.lt(best);
@@ -189,7 +200,35 @@ fn run_earliest<L: Lanes, S: Solver, K: StaticShape>(
         originals: shapes,
         shapes: shapes.iter().map(K::prepare).collect(),
         t_max: L::splat(t),
+        t_max_f32: t,
         solver: PhantomData,
     };
     fill(out, &kernel);
+}
+
+/// The box around spheres `range` of `spheres` swept over `[0, t_max]`, in f64 and padded by
+/// `2⁻¹⁰` of its size — far beyond any kernel's rounding, so a sphere a kernel could report
+/// as touching a shape never lies outside it. `None` (no cull) when the box is not finite.
+fn group_box(
+    spheres: &SphereStore,
+    range: std::ops::Range<usize>,
+    t_max: f32,
+) -> Option<(glam::DVec3, glam::DVec3)> {
+    use glam::DVec3;
+    let t = f64::from(t_max);
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for i in range {
+        let s = spheres.get(i)?;
+        let (c, v, r) = (
+            s.centre().as_dvec3(),
+            s.velocity().as_dvec3(),
+            f64::from(s.radius()),
+        );
+        let e = c + v * t;
+        lo = lo.min(c.min(e) - r);
+        hi = hi.max(c.max(e) + r);
+    }
+    let pad = (lo.abs().max(hi.abs()).max_element() + (hi - lo).max_element()) / 1024.0
+        + f64::MIN_POSITIVE;
+    (lo.is_finite() && hi.is_finite()).then(|| (lo - pad, hi + pad))
 }

@@ -15,6 +15,7 @@ pub(crate) mod sphere_cylinder;
 pub(crate) mod sphere_plane;
 pub(crate) mod sphere_sphere;
 
+use glam::DVec3;
 use wide::f64x4;
 
 use crate::lanes::Lanes;
@@ -34,26 +35,64 @@ pub trait StaticKernel: Sync {
     fn prepare<L: Lanes>(&self) -> Self::Lanes<L>;
     /// Times per lane and the mask of lanes outside the f32 safe range.
     fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &Self::Lanes<L>, t_max: L) -> (L, L);
+    /// Whether a sphere swept inside the box `[lo, hi]` (f64, finite) could touch the shape:
+    /// `false` only when none can, so a caller may skip the kernel.
+    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool;
 }
 
-macro_rules! static_kernel {
-    ($t:ident, $lanes:ident, $kernel:ident) => {
-        impl StaticKernel for $t {
-            type Lanes<L: Lanes> = $lanes<L>;
-            #[inline]
-            fn prepare<L: Lanes>(&self) -> $lanes<L> {
-                $lanes::splat(self)
-            }
-            #[inline(always)]
-            fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &$lanes<L>, t: L) -> (L, L) {
-                $kernel::time_of_impact::<L, S>(s, k, t)
-            }
-        }
-    };
+impl StaticKernel for Plane {
+    type Lanes<L: Lanes> = PlaneLanes<L>;
+    #[inline]
+    fn prepare<L: Lanes>(&self) -> PlaneLanes<L> {
+        PlaneLanes::splat(self)
+    }
+    #[inline(always)]
+    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &PlaneLanes<L>, t: L) -> (L, L) {
+        sphere_plane::time_of_impact::<L, S>(s, k, t)
+    }
+    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
+        // The box's extent along the normal straddles the plane.
+        let n = crate::contact::unit_normal(self);
+        let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+        (centre - self.point().as_dvec3()).dot(n).abs() <= half.dot(n.abs())
+    }
 }
-static_kernel!(Plane, PlaneLanes, sphere_plane);
-static_kernel!(Cylinder, CylinderLanes, sphere_cylinder);
-static_kernel!(Container, ContainerLanes, sphere_container);
+
+impl StaticKernel for Cylinder {
+    type Lanes<L: Lanes> = CylinderLanes<L>;
+    #[inline]
+    fn prepare<L: Lanes>(&self) -> CylinderLanes<L> {
+        CylinderLanes::splat(self)
+    }
+    #[inline(always)]
+    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &CylinderLanes<L>, t: L) -> (L, L) {
+        sphere_cylinder::time_of_impact::<L, S>(s, k, t)
+    }
+    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
+        // Some point of the box lies within the cylinder's radius of its axis.
+        let s = crate::contact::unit_axis(self);
+        let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+        let x = centre - self.point().as_dvec3();
+        (x - s * x.dot(s)).length() <= f64::from(self.radius()) + half.length()
+    }
+}
+
+impl StaticKernel for Container {
+    type Lanes<L: Lanes> = ContainerLanes<L>;
+    #[inline]
+    fn prepare<L: Lanes>(&self) -> ContainerLanes<L> {
+        ContainerLanes::splat(self)
+    }
+    #[inline(always)]
+    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &ContainerLanes<L>, t: L) -> (L, L) {
+        sphere_container::time_of_impact::<L, S>(s, k, t)
+    }
+    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
+        // The box's farthest corner from the centre reaches the wall.
+        let c = self.centre().as_dvec3();
+        (lo - c).abs().max((hi - c).abs()).length() >= f64::from(self.radius())
+    }
+}
 
 /// Times of impact of sphere pairs per lane: the mode's kernel, with the lanes outside the
 /// f32 safe range answered again in f64 (never silently wrong at any scale). `reload` gives
