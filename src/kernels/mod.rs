@@ -40,58 +40,52 @@ pub trait StaticKernel: Sync {
     fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool;
 }
 
-impl StaticKernel for Plane {
-    type Lanes<L: Lanes> = PlaneLanes<L>;
-    #[inline]
-    fn prepare<L: Lanes>(&self) -> PlaneLanes<L> {
-        PlaneLanes::splat(self)
-    }
-    #[inline(always)]
-    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &PlaneLanes<L>, t: L) -> (L, L) {
-        sphere_plane::time_of_impact::<L, S>(s, k, t)
-    }
-    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
-        // The box's extent along the normal straddles the plane.
-        let n = crate::contact::unit_normal(self);
-        let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-        (centre - self.point().as_dvec3()).dot(n).abs() <= half.dot(n.abs())
-    }
+macro_rules! static_kernel {
+    ($t:ident, $lanes:ident, $kernel:ident, $reach:ident) => {
+        impl StaticKernel for $t {
+            type Lanes<L: Lanes> = $lanes<L>;
+            #[inline]
+            fn prepare<L: Lanes>(&self) -> $lanes<L> {
+                $lanes::splat(self)
+            }
+            #[inline(always)]
+            fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &$lanes<L>, t: L) -> (L, L) {
+                $kernel::time_of_impact::<L, S>(s, k, t)
+            }
+            fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
+                $reach(self, lo, hi)
+            }
+        }
+    };
+}
+static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach);
+static_kernel!(Cylinder, CylinderLanes, sphere_cylinder, cylinder_may_reach);
+static_kernel!(
+    Container,
+    ContainerLanes,
+    sphere_container,
+    container_may_reach
+);
+
+/// The box's extent along the normal straddles the plane.
+fn plane_may_reach(p: &Plane, lo: DVec3, hi: DVec3) -> bool {
+    let n = crate::contact::unit_normal(p);
+    let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+    (centre - p.point().as_dvec3()).dot(n).abs() <= half.dot(n.abs())
 }
 
-impl StaticKernel for Cylinder {
-    type Lanes<L: Lanes> = CylinderLanes<L>;
-    #[inline]
-    fn prepare<L: Lanes>(&self) -> CylinderLanes<L> {
-        CylinderLanes::splat(self)
-    }
-    #[inline(always)]
-    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &CylinderLanes<L>, t: L) -> (L, L) {
-        sphere_cylinder::time_of_impact::<L, S>(s, k, t)
-    }
-    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
-        // Some point of the box lies within the cylinder's radius of its axis.
-        let s = crate::contact::unit_axis(self);
-        let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-        let x = centre - self.point().as_dvec3();
-        (x - s * x.dot(s)).length() <= f64::from(self.radius()) + half.length()
-    }
+/// Some point of the box lies within the cylinder's radius of its axis.
+fn cylinder_may_reach(c: &Cylinder, lo: DVec3, hi: DVec3) -> bool {
+    let s = crate::contact::unit_axis(c);
+    let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+    let x = centre - c.point().as_dvec3();
+    (x - s * x.dot(s)).length() <= f64::from(c.radius()) + half.length()
 }
 
-impl StaticKernel for Container {
-    type Lanes<L: Lanes> = ContainerLanes<L>;
-    #[inline]
-    fn prepare<L: Lanes>(&self) -> ContainerLanes<L> {
-        ContainerLanes::splat(self)
-    }
-    #[inline(always)]
-    fn raw<L: Lanes, S: Solver>(s: &SphereLanes<L>, k: &ContainerLanes<L>, t: L) -> (L, L) {
-        sphere_container::time_of_impact::<L, S>(s, k, t)
-    }
-    fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
-        // The box's farthest corner from the centre reaches the wall.
-        let c = self.centre().as_dvec3();
-        (lo - c).abs().max((hi - c).abs()).length() >= f64::from(self.radius())
-    }
+/// The box's farthest corner from the centre reaches the wall.
+fn container_may_reach(k: &Container, lo: DVec3, hi: DVec3) -> bool {
+    let c = k.centre().as_dvec3();
+    (lo - c).abs().max((hi - c).abs()).length() >= f64::from(k.radius())
 }
 
 /// Times of impact of sphere pairs per lane: the mode's kernel, with the lanes outside the

@@ -3,9 +3,9 @@
 //! it is what the grid query is tested against, bit for bit (`tests/query.rs`). The f64
 //! specification of the same query is `reference::scene::first_contacts_brute_force`.
 
-use super::{ContactEvent, sort_events};
-use crate::batch::{self, FirstContact, QueryOptions, StaticShape};
-use crate::contact::{Body, contact_at};
+use super::{ContactEvent, geometry, offer, sort_events, static_events};
+use crate::batch::{self, FirstContact, QueryOptions};
+use crate::contact::Body;
 use crate::scene::Scene;
 use crate::shape::ShapeKind;
 
@@ -22,35 +22,18 @@ use crate::shape::ShapeKind;
 pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstContact>> {
     let events = all_contacts(scene, options.with_geometry(false));
     let mut best: Vec<Option<FirstContact>> = vec![None; scene.spheres.len()];
-    // Every event once per sphere it involves; events are in time order, so the first one a
-    // sphere sees is its earliest, and equal times come in body order.
-    let mut seen = |i: u32, time: f32, body: Body| {
-        let slot = &mut best[i as usize];
-        let better = slot.is_none_or(|b| time < b.time || (time == b.time && body < b.body));
-        if better {
-            *slot = Some(FirstContact {
-                time,
-                body,
-                geometry: None,
-            });
-        }
-    };
+    // Every event offered to each sphere it involves, under the query's tie rule.
     for e in &events {
-        seen(e.sphere, e.time, e.other);
+        offer(&mut best[e.sphere as usize], e.time, e.other);
         if e.other.kind == ShapeKind::Sphere {
-            seen(
-                e.other.index,
-                e.time,
-                Body::new(ShapeKind::Sphere, e.sphere),
-            );
+            let this = Body::new(ShapeKind::Sphere, e.sphere);
+            offer(&mut best[e.other.index as usize], e.time, this);
         }
     }
     if options.geometry() {
         for (i, slot) in best.iter_mut().enumerate() {
             if let Some(hit) = slot {
-                let s = scene.spheres.get(i).expect("a sphere of the scene");
-                let other = scene.body(hit.body).expect("a body of the scene");
-                hit.geometry = Some(contact_at(&s, &other, hit.time.into()));
+                hit.geometry = Some(geometry(scene, i as u32, hit.body, hit.time));
             }
         }
     }
@@ -76,37 +59,15 @@ pub fn all_contacts(scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
             }
         }
     }
-    fn statics<K: StaticShape>(
-        events: &mut Vec<ContactEvent>,
-        scene: &Scene,
-        shapes: &[K],
-        options: QueryOptions,
-    ) {
-        let mut times = vec![0.0; scene.spheres.len()];
-        for (j, shape) in shapes.iter().enumerate() {
-            batch::static_times(&scene.spheres, shape, options, &mut times)
-                .expect("one slot per sphere");
-            for (i, &time) in times.iter().enumerate() {
-                if time.is_finite() {
-                    events.push(ContactEvent {
-                        time,
-                        sphere: i as u32,
-                        other: Body::new(K::KIND, j as u32),
-                        geometry: None,
-                    });
-                }
-            }
-        }
-    }
-    statics(&mut events, scene, &scene.planes, options);
-    statics(&mut events, scene, &scene.cylinders, options);
-    statics(&mut events, scene, &scene.containers, options);
+    // The shapes are tested every sphere against every shape in the query too (no broad
+    // phase there): the same function.
+    static_events(&mut events, store, &scene.planes, options);
+    static_events(&mut events, store, &scene.cylinders, options);
+    static_events(&mut events, store, &scene.containers, options);
     sort_events(&mut events);
     if options.geometry() {
         for e in &mut events {
-            let s = store.get(e.sphere as usize).expect("a sphere of the scene");
-            let other = scene.body(e.other).expect("a body of the scene");
-            e.geometry = Some(contact_at(&s, &other, e.time.into()));
+            e.geometry = Some(geometry(scene, e.sphere, e.other, e.time));
         }
     }
     events

@@ -245,22 +245,25 @@ impl SceneQuery {
     }
 }
 
-/// Keeps the earlier contact; at equal times the lower body (kind, then index).
+/// The tie rule of every first-contact query: the earlier contact, and at equal times the
+/// lower body (kind, then index).
+#[inline]
+fn earlier(time: f32, body: Body, than_time: f32, than_body: Body) -> bool {
+    time < than_time || (time == than_time && body < than_body)
+}
+
+/// Keeps the earlier contact on a compact record (see [`earlier`]).
 #[inline]
 fn keep_earlier(slot: &mut (f32, Body), time: f32, body: Body) {
-    if time < slot.0 || (time == slot.0 && body < slot.1) {
+    if earlier(time, body, slot.0, slot.1) {
         *slot = (time, body);
     }
 }
 
-/// Keeps the earlier contact; at equal times the lower body (kind, then index).
+/// Keeps the earlier contact (see [`earlier`]).
 #[inline]
 fn offer(slot: &mut Option<FirstContact>, time: f32, body: Body) {
-    let better = match slot {
-        None => true,
-        Some(b) => time < b.time || (time == b.time && body < b.body),
-    };
-    if better {
+    if slot.is_none_or(|b| earlier(time, body, b.time, b.body)) {
         *slot = Some(FirstContact {
             time,
             body,
