@@ -7,24 +7,12 @@ Groups read: broad_* (grid, grid-2-threads, parry-bvh-incremental, parry-bvh-reb
 query_* (stable, stable-2-threads, parry-bvh-cast_shapes). Times are criterion's medians per
 sphere; ratios are within one run, so they hold when the shared machine's speed drifts.
 """
-import json
 import math
 import pathlib
 import sys
 
-root = pathlib.Path("target/criterion")
-
-
-def read(group):
-    rows = {}
-    for est in sorted((root / group).glob("*/new/estimates.json")):
-        name = est.parent.parent.name
-        line, _, size = name.rpartition("_")
-        bench = json.loads((est.parent / "benchmark.json").read_text())
-        n = bench["throughput"]["Elements"]
-        median_ns = json.loads(est.read_text())["median"]["point_estimate"]
-        rows.setdefault(line, {})[int(size)] = median_ns / n
-    return rows
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from criterion_table import read, root  # noqa: E402  (one reader of criterion's files)
 
 
 def table(group, peer, ours, two):

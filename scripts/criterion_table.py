@@ -11,8 +11,10 @@ import pathlib
 import sys
 
 root = pathlib.Path("target/criterion")
-groups = sys.argv[1:] or ["sphere_sphere", "sphere_plane", "sphere_cylinder", "sphere_container"]
-for group in groups:
+
+
+def read(group):
+    """Criterion's median time per element of every line of `group`: {line: {size: ns}}."""
     rows = {}
     for est in sorted((root / group).glob("*/new/estimates.json")):
         name = est.parent.parent.name
@@ -20,12 +22,22 @@ for group in groups:
         bench = json.loads((est.parent / "benchmark.json").read_text())
         n = bench["throughput"]["Elements"]
         median_ns = json.loads(est.read_text())["median"]["point_estimate"]
-        rows.setdefault(int(size), []).append((line, median_ns / n))
-    for size, lines in sorted(rows.items()):
-        peer = dict(lines).get("parry-cast_shapes")
-        print(f"\n**{group}, {size} pairs**\n")
-        print("| line | ns / pair | M pairs / s | × parry cast_shapes |")
-        print("|---|---:|---:|---:|")
-        for line, ns in sorted(lines, key=lambda l: l[1]):
-            ratio = f"{peer / ns:.1f}" if peer else "–"
-            print(f"| {line} | {ns:.3f} | {1e3 / ns:.1f} | {ratio} |")
+        rows.setdefault(line, {})[int(size)] = median_ns / n
+    return rows
+
+
+if __name__ == "__main__":
+    groups = sys.argv[1:] or ["sphere_sphere", "sphere_plane", "sphere_cylinder", "sphere_container"]
+    for group in groups:
+        by_size = {}
+        for line, sizes in read(group).items():
+            for size, ns in sizes.items():
+                by_size.setdefault(size, []).append((line, ns))
+        for size, lines in sorted(by_size.items()):
+            peer = dict(lines).get("parry-cast_shapes")
+            print(f"\n**{group}, {size} pairs**\n")
+            print("| line | ns / pair | M pairs / s | × parry cast_shapes |")
+            print("|---|---:|---:|---:|")
+            for line, ns in sorted(lines, key=lambda l: l[1]):
+                ratio = f"{peer / ns:.1f}" if peer else "–"
+                print(f"| {line} | {ns:.3f} | {1e3 / ns:.1f} | {ratio} |")

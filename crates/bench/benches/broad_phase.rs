@@ -12,7 +12,7 @@ use std::time::Duration;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spheresweep::SphereStore;
 use spheresweep::broad::{Grid, GridOptions};
-use spheresweep_bench::peer::{ParryIncremental, ParryRebuild};
+use spheresweep_bench::peer::{ParryIncremental, ParryRebuild, swept_boxes_into};
 use spheresweep_bench::scenes;
 
 fn sizes() -> Vec<usize> {
@@ -21,17 +21,6 @@ fn sizes() -> Vec<usize> {
         sizes.push(10_000_000);
     }
     sizes
-}
-
-/// The swept boxes of `store` over `[0, t_max]`, as parry takes them.
-fn boxes(store: &SphereStore, t_max: f32) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
-    store
-        .iter()
-        .map(|s| {
-            let (c, e, r) = (s.centre(), s.centre_at(t_max), s.radius());
-            ((c.min(e) - r).to_array(), (c.max(e) + r).to_array())
-        })
-        .unzip()
 }
 
 fn group(c: &mut Criterion, name: &str, make: &dyn Fn(usize) -> SphereStore, t_max: f32) {
@@ -67,7 +56,8 @@ fn group(c: &mut Criterion, name: &str, make: &dyn Fn(usize) -> SphereStore, t_m
                 })
             });
         }
-        let (lo, hi) = boxes(&store, t_max);
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        swept_boxes_into(&store, t_max, &mut lo, &mut hi);
         let mut incremental = ParryIncremental::new();
         let theirs = incremental.count(&lo, &hi);
         g.bench_function(format!("parry-bvh-incremental/{n}"), |b| {

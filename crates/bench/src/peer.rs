@@ -280,6 +280,23 @@ mod tests {
     }
 }
 
+/// The swept boxes of `store`'s spheres over `[0, t_max]`, as the peer takes them (`lo`, `hi`
+/// cleared first): `min(c, c + v t_max) − r` and `max(…) + r` per axis.
+pub fn swept_boxes_into(
+    store: &spheresweep::SphereStore,
+    t_max: f32,
+    lo: &mut Vec<[f32; 3]>,
+    hi: &mut Vec<[f32; 3]>,
+) {
+    lo.clear();
+    hi.clear();
+    for s in store.iter() {
+        let (c, e, r) = (s.centre(), s.centre_at(t_max), s.radius());
+        lo.push((c.min(e) - r).to_array());
+        hi.push((c.max(e) + r).to_array());
+    }
+}
+
 /// The whole first-contact query on parry3d: [`ParryIncremental`] for the candidate pairs,
 /// then `query::cast_shapes` on each, the earliest per sphere kept — what a parry user writes.
 #[derive(Default)]
@@ -305,20 +322,15 @@ impl ParryQuery {
         out: &mut [f32],
     ) -> u64 {
         use parry3d::query::{ShapeCastOptions, cast_shapes};
-        self.lo.clear();
-        self.hi.clear();
+        swept_boxes_into(store, t_max, &mut self.lo, &mut self.hi);
         self.balls.clear();
-        for s in store.iter() {
-            let (c, v, r) = (s.centre(), s.velocity(), s.radius());
-            let e = c + v * t_max;
-            self.lo.push((c.min(e) - r).to_array());
-            self.hi.push((c.max(e) + r).to_array());
-            self.balls.push((
-                parry3d::math::Pose::from_translation(c),
-                v,
-                parry3d::shape::Ball::new(r),
-            ));
-        }
+        self.balls.extend(store.iter().map(|s| {
+            (
+                parry3d::math::Pose::from_translation(s.centre()),
+                s.velocity(),
+                parry3d::shape::Ball::new(s.radius()),
+            )
+        }));
         out.fill(f32::INFINITY);
         let options = ShapeCastOptions {
             max_time_of_impact: t_max,

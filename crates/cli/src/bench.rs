@@ -13,7 +13,7 @@ use spheresweep::query::SceneQuery;
 use spheresweep::scene::Scene;
 use spheresweep::{Accuracy, QueryOptions};
 use spheresweep_bench::narrow::{self, T_MAX};
-use spheresweep_bench::peer::{ParryIncremental, ParryQuery, ParryRebuild};
+use spheresweep_bench::peer::{ParryIncremental, ParryQuery, ParryRebuild, swept_boxes_into};
 use spheresweep_bench::scenes;
 
 /// Options of `spheresweep bench`.
@@ -212,13 +212,8 @@ fn broad_lines(
             black_box(grid.pairs().len());
         });
         let candidates = grid.pairs().len();
-        let (lo, hi): (Vec<[f32; 3]>, Vec<[f32; 3]>) = store
-            .iter()
-            .map(|s| {
-                let (c, e, r) = (s.centre(), s.centre_at(t_max), s.radius());
-                ((c.min(e) - r).to_array(), (c.max(e) + r).to_array())
-            })
-            .unzip();
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        swept_boxes_into(&store, t_max, &mut lo, &mut hi);
         let mut incremental = ParryIncremental::new();
         incremental.count(&lo, &hi);
         let mut peer_pairs = 0;
