@@ -25,6 +25,7 @@ pub mod batch;
 pub mod broad;
 pub mod contact;
 pub mod error;
+pub mod io;
 mod kernels;
 mod lanes;
 pub mod query;
@@ -32,6 +33,7 @@ pub mod reference;
 pub mod rng;
 pub mod scene;
 pub mod shape;
+pub mod sim;
 pub mod store;
 
 pub use accuracy::Accuracy;

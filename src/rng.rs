@@ -43,6 +43,12 @@ impl Rng {
             self.range(-lim, lim),
         )
     }
+    /// A standard normal deviate (Box–Muller).
+    pub fn normal(&mut self) -> f64 {
+        let u = 1.0 - self.unit(); // (0, 1]
+        let v = self.unit();
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
     /// A uniformly random unit vector.
     pub fn direction(&mut self) -> DVec3 {
         loop {

@@ -1,0 +1,177 @@
+//! The engine's cell list: a uniform grid of cells at least one largest diameter wide, each a
+//! short contiguous array of sphere indices (swap-remove), so a sphere moves between cells in
+//! O(1) at its crossing event and a prediction reads its neighbours' indices without chasing
+//! pointers. Periodic boxes wrap; an open domain clamps, so its outermost cells reach to
+//! infinity (a sphere that leaves the domain stays in an edge cell and is still found by its
+//! neighbours).
+
+use glam::DVec3;
+
+/// "No sphere".
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// The grid and its cell arrays.
+#[derive(Debug, Clone)]
+pub(crate) struct Cells {
+    /// Cells per axis.
+    pub n: [i32; 3],
+    /// Lower corner of the domain.
+    pub lo: DVec3,
+    /// Cell width per axis.
+    pub w: DVec3,
+    /// Box lengths (periodic), `n · w`.
+    pub len: DVec3,
+    /// Slots per cell (grows when a cell fills).
+    cap: usize,
+    slots: Vec<u32>,
+    count: Vec<u32>,
+    slot_of: Vec<u32>,
+    /// Each sphere's cell coordinates.
+    pub at: Vec<[i32; 3]>,
+}
+
+impl Cells {
+    /// A grid over `[lo, lo + extent]` with cells no narrower than `min_width`, at most
+    /// `max_cells` in all, for `spheres` spheres.
+    pub fn new(lo: DVec3, extent: DVec3, min_width: f64, max_cells: usize, spheres: usize) -> Self {
+        let mut n = [0i32; 3];
+        let budget = max_cells.max(1) as f64;
+        // Largest per-axis counts with width ≥ min_width, shrunk evenly to fit the budget.
+        let raw: [f64; 3] = [0, 1, 2].map(|k| (extent[k] / min_width).floor().clamp(1.0, 1e6));
+        let total: f64 = raw.iter().product();
+        let scale = if total > budget {
+            (budget / total).cbrt()
+        } else {
+            1.0
+        };
+        for k in 0..3 {
+            n[k] = ((raw[k] * scale).floor() as i32).max(1);
+        }
+        let w = DVec3::new(
+            extent.x / f64::from(n[0]),
+            extent.y / f64::from(n[1]),
+            extent.z / f64::from(n[2]),
+        );
+        let cells = (n[0] as usize) * (n[1] as usize) * (n[2] as usize);
+        let cap = 8;
+        Self {
+            n,
+            lo,
+            w,
+            len: extent,
+            cap,
+            slots: vec![NONE; cells * cap],
+            count: vec![0; cells],
+            slot_of: vec![NONE; spheres],
+            at: vec![[0; 3]; spheres],
+        }
+    }
+
+    /// The (clamped) cell coordinates of a point.
+    #[inline]
+    pub fn coords_of(&self, p: DVec3) -> [i32; 3] {
+        let q = (p - self.lo) / self.w;
+        [0, 1, 2].map(|k| (q[k].floor().clamp(-1.0, 1e9) as i32).clamp(0, self.n[k] - 1))
+    }
+
+    #[inline]
+    pub fn index(&self, c: [i32; 3]) -> usize {
+        ((c[2] as usize * self.n[1] as usize) + c[1] as usize) * self.n[0] as usize + c[0] as usize
+    }
+
+    /// Slots per cell: no cell holds more spheres.
+    #[inline]
+    pub fn capacity(&self) -> usize {
+        self.cap
+    }
+
+    /// The spheres in cell `cell` (an [`index`](Self::index)).
+    #[inline(always)]
+    pub fn members(&self, cell: usize) -> &[u32] {
+        let start = cell * self.cap;
+        &self.slots[start..start + self.count[cell] as usize]
+    }
+
+    /// Adds sphere `i` to cell `c`.
+    #[inline]
+    pub fn insert(&mut self, i: u32, c: [i32; 3]) {
+        let cell = self.index(c);
+        if self.count[cell] as usize == self.cap {
+            self.grow();
+        }
+        let k = self.count[cell] as usize;
+        self.slots[cell * self.cap + k] = i;
+        self.count[cell] += 1;
+        self.slot_of[i as usize] = k as u32;
+        self.at[i as usize] = c;
+    }
+
+    /// Removes sphere `i` from its cell (the cell's last sphere takes its slot).
+    #[inline]
+    pub fn remove(&mut self, i: u32) {
+        let cell = self.index(self.at[i as usize]);
+        let base = cell * self.cap;
+        let k = self.slot_of[i as usize] as usize;
+        let last = self.count[cell] as usize - 1;
+        let moved = self.slots[base + last];
+        self.slots[base + k] = moved;
+        self.slot_of[moved as usize] = k as u32;
+        self.slots[base + last] = NONE;
+        self.count[cell] -= 1;
+    }
+
+    /// Doubles the slots per cell.
+    #[cold]
+    fn grow(&mut self) {
+        let cap = self.cap * 2;
+        let mut slots = vec![NONE; self.count.len() * cap];
+        for (cell, &c) in self.count.iter().enumerate() {
+            let c = c as usize;
+            slots[cell * cap..cell * cap + c]
+                .copy_from_slice(&self.slots[cell * self.cap..cell * self.cap + c]);
+        }
+        self.slots = slots;
+        self.cap = cap;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn width_never_below_the_minimum_and_budget_holds() {
+        let c = Cells::new(DVec3::ZERO, DVec3::new(10.0, 3.5, 100.0), 1.0, 1000, 0);
+        assert!(c.w.min_element() >= 1.0);
+        assert!(c.count.len() <= 1000, "{:?}", c.n);
+        let c = Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1 << 20, 0);
+        assert_eq!(c.n, [10, 10, 10]);
+    }
+
+    #[test]
+    fn lists_insert_and_remove() {
+        let mut c = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64, 3);
+        for i in 0..3 {
+            c.insert(i, [1, 1, 1]);
+        }
+        c.remove(1);
+        let cell = c.index([1, 1, 1]);
+        assert_eq!(c.members(cell), &[0, 2]);
+        c.remove(2);
+        c.remove(0);
+        assert!(c.members(cell).is_empty());
+        // A full cell grows and keeps its members.
+        for i in 0..3 {
+            c.insert(i, [0, 0, 0]);
+        }
+        let mut many = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64, 20);
+        for i in 0..20 {
+            many.insert(i, [2, 1, 0]);
+        }
+        many.remove(5);
+        let mut m = many.members(many.index([2, 1, 0])).to_vec();
+        m.sort();
+        assert_eq!(m, (0..20).filter(|&i| i != 5).collect::<Vec<_>>());
+        assert_eq!(c.coords_of(DVec3::new(-5.0, 3.99, 9.0)), [0, 3, 3]);
+    }
+}

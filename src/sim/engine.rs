@@ -1,0 +1,624 @@
+//! The event-driven engine: every collision in exact time order, one pending event per sphere
+//! in a calendar queue, cell crossings from the grid, lazy positions with a per-sphere time,
+//! and re-prediction of only the spheres an event touched.
+//!
+//! Stages of one event, in order (`step`): pop the earliest entry and drop it if stale
+//! (older version); then a cell crossing moves the sphere and looks only at the newly adjacent
+//! cells; a pair event whose partner changed since the prediction is predicted again; a real
+//! collision advances the bodies, applies the [`Responder`] and predicts every changed sphere
+//! against its neighbours, eight at a time (`predict`).
+//!
+//! The engine is generic over the response `R` and three switches fixed when it is assembled:
+//! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all) and `GEOMETRY` (contact point
+//! and normal in the event log), so a scene without them runs none of their code.
+
+use glam::DVec3;
+use wide::f64x4;
+
+use super::cells::{Cells, NONE};
+use super::predict::{PairBatch, refine};
+use super::queue::{Calendar, Entry};
+use super::response::{Body as Dyn, Motion, Outcome, Responder};
+use super::{EventRecord, KernelCounts, SimError, Stats};
+use crate::contact::{Body, unit_axis, unit_normal};
+use crate::kernels::StaticKernel;
+use crate::kernels::quadratic::Stable;
+use crate::shape::ShapeKind;
+use crate::store::SphereLanes;
+use crate::{Container, Cylinder, Plane};
+
+/// What a sphere's pending event is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Best {
+    /// Earliest predicted pair contact, its partner and the partner's counter then.
+    pub pair_t: f64,
+    pub pair_j: u32,
+    pub pair_counter: u32,
+    /// Earliest static-shape contact.
+    pub wall_t: f64,
+    pub wall: Body,
+    /// Next cell crossing: axis and direction.
+    pub cross_t: f64,
+    pub cross_axis: u8,
+    pub cross_up: bool,
+}
+
+impl Default for Best {
+    fn default() -> Self {
+        Self {
+            pair_t: f64::INFINITY,
+            pair_j: NONE,
+            pair_counter: 0,
+            wall_t: f64::INFINITY,
+            wall: Body::new(ShapeKind::Plane, 0),
+            cross_t: f64::INFINITY,
+            cross_axis: 0,
+            cross_up: false,
+        }
+    }
+}
+
+impl Best {
+    #[inline]
+    fn time(&self) -> f64 {
+        self.pair_t.min(self.wall_t).min(self.cross_t)
+    }
+}
+
+/// The static shapes, prepared once for the f64 kernels, with their materials.
+#[derive(Debug, Default)]
+pub(crate) struct Walls {
+    pub planes: Vec<(Plane, u16)>,
+    pub cylinders: Vec<(Cylinder, u16)>,
+    pub containers: Vec<(Container, u16)>,
+    prepared_planes: Vec<<Plane as StaticKernel>::Lanes<f64x4>>,
+    prepared_cylinders: Vec<<Cylinder as StaticKernel>::Lanes<f64x4>>,
+    prepared_containers: Vec<<Container as StaticKernel>::Lanes<f64x4>>,
+}
+
+impl Walls {
+    pub fn new(
+        planes: Vec<(Plane, u16)>,
+        cylinders: Vec<(Cylinder, u16)>,
+        containers: Vec<(Container, u16)>,
+    ) -> Self {
+        Self {
+            prepared_planes: planes.iter().map(|p| p.0.prepare()).collect(),
+            prepared_cylinders: cylinders.iter().map(|p| p.0.prepare()).collect(),
+            prepared_containers: containers.iter().map(|p| p.0.prepare()).collect(),
+            planes,
+            cylinders,
+            containers,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.planes.is_empty() && self.cylinders.is_empty() && self.containers.is_empty()
+    }
+
+    /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape,
+    /// in f64 (the `Stable` kernels on `f64x4`, one lane used).
+    fn earliest(&self, r: DVec3, v: DVec3, radius: f64, counts: &mut KernelCounts) -> (f64, Body) {
+        let s = SphereLanes::<f64x4> {
+            c: [r.x, r.y, r.z].map(f64x4::splat),
+            v: [v.x, v.y, v.z].map(f64x4::splat),
+            r: f64x4::splat(radius),
+        };
+        let t_max = f64x4::splat(f64::INFINITY);
+        let mut best = (f64::INFINITY, Body::new(ShapeKind::Plane, 0));
+        let mut take = |t: f64x4, kind, k: usize| {
+            let t = t.to_array()[0];
+            if t < best.0 {
+                best = (t, Body::new(kind, k as u32));
+            }
+        };
+        for (k, p) in self.prepared_planes.iter().enumerate() {
+            take(
+                Plane::raw::<f64x4, Stable>(&s, p, t_max).0,
+                ShapeKind::Plane,
+                k,
+            );
+        }
+        for (k, p) in self.prepared_cylinders.iter().enumerate() {
+            take(
+                Cylinder::raw::<f64x4, Stable>(&s, p, t_max).0,
+                ShapeKind::Cylinder,
+                k,
+            );
+        }
+        for (k, p) in self.prepared_containers.iter().enumerate() {
+            take(
+                Container::raw::<f64x4, Stable>(&s, p, t_max).0,
+                ShapeKind::Container,
+                k,
+            );
+        }
+        counts.plane += self.planes.len() as u64;
+        counts.cylinder += self.cylinders.len() as u64;
+        counts.container += self.containers.len() as u64;
+        best
+    }
+
+    /// Unit normal from the shape towards the sphere centre `r`, the signed gap (negative when
+    /// the sphere is through the shape) and the shape's material.
+    pub fn normal_gap(&self, body: Body, r: DVec3, radius: f64) -> (DVec3, f64, u16) {
+        let k = body.index as usize;
+        match body.kind {
+            ShapeKind::Plane => {
+                let (p, m) = &self.planes[k];
+                let n = unit_normal(p);
+                let d = (r - p.point().as_dvec3()).dot(n);
+                (n * d.signum(), d.abs() - radius, *m)
+            }
+            ShapeKind::Cylinder => {
+                let (c, m) = &self.cylinders[k];
+                let s = unit_axis(c);
+                let x = r - c.point().as_dvec3();
+                let radial = x - s * x.dot(s);
+                let d = radial.length();
+                (radial / d, d - radius - f64::from(c.radius()), *m)
+            }
+            ShapeKind::Container | ShapeKind::Sphere => {
+                let (c, m) = &self.containers[k];
+                let x = r - c.centre().as_dvec3();
+                let d = x.length();
+                (-x / d, f64::from(c.radius()) - radius - d, *m)
+            }
+        }
+    }
+}
+
+/// Everything that is not the response: the engine state.
+pub(crate) struct Engine<
+    R: Responder,
+    const PERIODIC: bool,
+    const WALLS: bool,
+    const GEOMETRY: bool,
+> {
+    pub m: Motion,
+    pub best: Vec<Best>,
+    version: Vec<u32>,
+    pub cells: Cells,
+    queue: Calendar,
+    pub now: f64,
+    pub walls: Walls,
+    pub responder: R,
+    pub stats: Stats,
+    pub log: Option<Vec<EventRecord>>,
+    batch: PairBatch,
+    candidates: Vec<usize>,
+    outcome: Outcome,
+    /// Events processed at the current time in a row (the stall watchdog).
+    same_time: u64,
+    stall_limit: u64,
+}
+
+impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
+    Engine<R, PERIODIC, WALLS, GEOMETRY>
+{
+    /// Assembles the engine at time 0 and predicts every sphere.
+    pub fn new(m: Motion, cells: Cells, walls: Walls, responder: R, log: bool) -> Self {
+        let n = m.bodies.len();
+        let mut e = Self {
+            best: vec![Best::default(); n],
+            version: vec![0; n],
+            cells,
+            queue: Calendar::new(1.0, 2, 0.0),
+            now: 0.0,
+            walls,
+            responder,
+            stats: Stats::default(),
+            log: log.then(Vec::new),
+            batch: PairBatch::default(),
+            candidates: Vec::new(),
+            outcome: Outcome::default(),
+            same_time: 0,
+            stall_limit: 1_000_000 + 1000 * n as u64,
+            m,
+        };
+        for i in 0..n as u32 {
+            let c = e.cells.coords_of(e.m.bodies[i as usize].r);
+            e.cells.insert(i, c);
+        }
+        for i in 0..n as u32 {
+            e.predict(i, false);
+        }
+        // Bucket width: about two pending events per bucket.
+        let finite: Vec<f64> = e
+            .best
+            .iter()
+            .map(Best::time)
+            .filter(|t| t.is_finite())
+            .collect();
+        let mean = if finite.is_empty() {
+            1.0
+        } else {
+            finite.iter().sum::<f64>() / finite.len() as f64
+        };
+        let width = (2.0 * mean / n.max(1) as f64).max(f64::MIN_POSITIVE * 1e10);
+        e.queue = Calendar::new(
+            if width.is_finite() && width > 0.0 {
+                width
+            } else {
+                1.0
+            },
+            n,
+            0.0,
+        );
+        for i in 0..n as u32 {
+            e.schedule(i);
+        }
+        e
+    }
+
+    /// Advances every event up to and including time `t_end`; stops early (returning `false`)
+    /// when `keep_going` says so, which it is asked every 4096 events.
+    pub fn run_until(
+        &mut self,
+        t_end: f64,
+        keep_going: &mut dyn FnMut(f64, &Stats) -> bool,
+    ) -> Result<bool, SimError> {
+        let mut tick = 0u32;
+        while let Some(e) = self.queue.pop() {
+            if e.t > t_end {
+                self.queue.push(e);
+                break;
+            }
+            if e.version != self.version[e.sphere as usize] {
+                continue;
+            }
+            if e.t > self.now {
+                self.same_time = 0;
+                self.now = e.t;
+            } else {
+                self.same_time += 1;
+                if self.same_time > self.stall_limit {
+                    return Err(SimError::Stalled {
+                        time: self.now,
+                        events: self.same_time,
+                    });
+                }
+            }
+            self.step(e.sphere);
+            tick += 1;
+            if tick == 4096 {
+                tick = 0;
+                if !keep_going(self.now, &self.stats) {
+                    return Ok(false);
+                }
+            }
+        }
+        self.now = self.now.max(t_end);
+        Ok(true)
+    }
+
+    /// One event of sphere `i` at `self.now`.
+    #[inline]
+    fn step(&mut self, i: u32) {
+        let b = self.best[i as usize];
+        if b.cross_t <= b.pair_t && b.cross_t <= b.wall_t {
+            self.cross(i, b);
+        } else if b.pair_t <= b.wall_t {
+            let j = b.pair_j;
+            if self.m.counter[j as usize] != b.pair_counter {
+                self.stats.stale += 1;
+                self.predict(i, false);
+                self.schedule(i);
+            } else {
+                self.collide_pair(i, j);
+            }
+        } else {
+            self.collide_wall(i, b.wall);
+        }
+    }
+
+    /// Sphere `i` crosses into the next cell: the new cell, the newly adjacent cells only, and
+    /// the stored predictions if their partner has not changed.
+    fn cross(&mut self, i: u32, b: Best) {
+        self.stats.crossings += 1;
+        self.m.advance(i, self.now);
+        let axis = usize::from(b.cross_axis);
+        let mut c = self.cells.at[i as usize];
+        let step = if b.cross_up { 1 } else { -1 };
+        c[axis] += step;
+        if PERIODIC {
+            let n = self.cells.n[axis];
+            let len = self.cells.len[axis];
+            let r = &mut self.m.bodies[i as usize].r[axis];
+            if c[axis] == n {
+                c[axis] = 0;
+                *r -= len;
+            } else if c[axis] < 0 {
+                c[axis] = n - 1;
+                *r += len;
+            }
+        }
+        self.cells.remove(i);
+        self.cells.insert(i, c);
+        let pair_valid =
+            b.pair_t.is_finite() && self.m.counter[b.pair_j as usize] == b.pair_counter;
+        if b.pair_t.is_finite() && !pair_valid {
+            self.stats.stale += 1;
+            self.predict(i, false);
+        } else {
+            // Only the layer of cells the sphere now reaches.
+            self.predict_pairs(i, Some((axis, step)));
+            let bi = &mut self.best[i as usize];
+            if !(bi.pair_t < b.pair_t || (bi.pair_t == b.pair_t && bi.pair_j < b.pair_j)) {
+                bi.pair_t = b.pair_t;
+                bi.pair_j = b.pair_j;
+                bi.pair_counter = b.pair_counter;
+            }
+            bi.wall_t = b.wall_t;
+            bi.wall = b.wall;
+            self.predict_crossing(i);
+        }
+        self.schedule(i);
+    }
+
+    fn collide_pair(&mut self, i: u32, j: u32) {
+        let now = self.now;
+        self.m.advance(i, now);
+        self.m.advance(j, now);
+        let (bi, bj) = (self.m.bodies[i as usize], self.m.bodies[j as usize]);
+        let mut dr = bj.r - bi.r;
+        if PERIODIC {
+            let len = self.cells.len;
+            dr -= len * (dr / len).round();
+        }
+        let d = bi.radius + bj.radius;
+        let overlap = (d - dr.length()) / d;
+        self.stats.max_overlap = self.stats.max_overlap.max(overlap);
+        let mut out = std::mem::take(&mut self.outcome);
+        out.changed.clear();
+        self.responder.pair(&mut self.m, i, j, dr, now, &mut out);
+        self.stats.pair_collisions += 1;
+        self.account(&out);
+        if let Some(log) = &mut self.log {
+            let geometry = GEOMETRY.then(|| {
+                let n = dr.normalize();
+                (bi.r + n * bi.radius, -n)
+            });
+            log.push(EventRecord::new(
+                now,
+                i,
+                Body::new(ShapeKind::Sphere, j),
+                &out,
+                geometry,
+            ));
+        }
+        for &s in &out.changed {
+            self.predict(s, false);
+        }
+        for &s in &out.changed {
+            self.schedule(s);
+        }
+        self.outcome = out;
+    }
+
+    fn collide_wall(&mut self, i: u32, wall: Body) {
+        let now = self.now;
+        self.m.advance(i, now);
+        let bi = self.m.bodies[i as usize];
+        let (n, gap, material) = self.walls.normal_gap(wall, bi.r, bi.radius);
+        self.stats.max_overlap = self.stats.max_overlap.max(-gap / bi.radius);
+        let mut out = std::mem::take(&mut self.outcome);
+        out.changed.clear();
+        self.responder
+            .wall(&mut self.m, i, n, material, now, &mut out);
+        self.stats.wall_collisions += 1;
+        self.account(&out);
+        if let Some(log) = &mut self.log {
+            let geometry = GEOMETRY.then(|| (bi.r - n * bi.radius, n));
+            log.push(EventRecord::new(now, i, wall, &out, geometry));
+        }
+        for &s in &out.changed {
+            self.predict(s, false);
+        }
+        for &s in &out.changed {
+            self.schedule(s);
+        }
+        self.outcome = out;
+    }
+
+    fn account(&mut self, out: &Outcome) {
+        self.stats.energy_lost += out.energy_lost;
+        self.stats.virial += out.virial;
+        self.stats.joins += u64::from(out.joined);
+        self.stats.guarded += u64::from(out.guarded);
+    }
+
+    /// Pushes sphere `i`'s pending event (a new version; older entries go stale).
+    #[inline]
+    fn schedule(&mut self, i: u32) {
+        let v = &mut self.version[i as usize];
+        *v = v.wrapping_add(1);
+        let t = self.best[i as usize].time();
+        if t.is_finite() {
+            self.queue.push(Entry {
+                t,
+                sphere: i,
+                version: *v,
+            });
+        }
+    }
+
+    /// Predicts sphere `i`'s next pair contact, static contact and cell crossing from now.
+    fn predict(&mut self, i: u32, _partial: bool) {
+        self.stats.predictions += 1;
+        self.m.advance(i, self.now);
+        self.best[i as usize] = Best::default();
+        self.predict_pairs(i, None);
+        if WALLS {
+            let b = self.m.bodies[i as usize];
+            let (t, wall) = self
+                .walls
+                .earliest(b.r, b.v, b.radius, &mut self.stats.kernels);
+            let best = &mut self.best[i as usize];
+            best.wall_t = self.now + t;
+            best.wall = wall;
+        }
+        self.predict_crossing(i);
+    }
+
+    /// The next cell boundary sphere `i` (advanced to now) reaches.
+    #[inline]
+    fn predict_crossing(&mut self, i: u32) {
+        let b = self.m.bodies[i as usize];
+        let c = self.cells.at[i as usize];
+        let (lo, w, n) = (self.cells.lo, self.cells.w, self.cells.n);
+        let mut best = (f64::INFINITY, 0u8, false);
+        for k in 0..3 {
+            let v = b.v[k];
+            let t = if v > 0.0 && (PERIODIC || c[k] < n[k] - 1) {
+                (lo[k] + f64::from(c[k] + 1) * w[k] - b.r[k]) / v
+            } else if v < 0.0 && (PERIODIC || c[k] > 0) {
+                (lo[k] + f64::from(c[k]) * w[k] - b.r[k]) / v
+            } else {
+                continue;
+            };
+            let t = t.max(0.0);
+            if t < best.0 {
+                best = (t, k as u8, v > 0.0);
+            }
+        }
+        let bi = &mut self.best[i as usize];
+        bi.cross_t = self.now + best.0;
+        bi.cross_axis = best.1;
+        bi.cross_up = best.2;
+    }
+
+    /// Gathers sphere `i`'s neighbours (all 27 cells, or the 9 newly adjacent after a crossing
+    /// along `layer`), screens them eight at a time and keeps the earliest in `best[i]`.
+    fn predict_pairs(&mut self, i: u32, layer: Option<(usize, i32)>) {
+        let now = self.now;
+        let bi = self.m.bodies[i as usize];
+        let ci = self.cells.at[i as usize];
+        let (n, len) = (self.cells.n, self.cells.len);
+        // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 when outside an open
+        // domain) and the image shift.
+        let mut coord = [[0i32; 3]; 3];
+        let mut shift = [[0f64; 3]; 3];
+        for k in 0..3 {
+            for (o, d) in (-1..=1).enumerate() {
+                let mut c = ci[k] + d;
+                if c < 0 || c >= n[k] {
+                    if PERIODIC {
+                        let wrap = if c < 0 { 1 } else { -1 };
+                        c += wrap * n[k];
+                        shift[k][o] = -f64::from(wrap) * len[k];
+                    } else {
+                        c = -1;
+                    }
+                }
+                coord[k][o] = c;
+            }
+        }
+        // Which offsets to visit per axis.
+        let (mut ox, mut oy, mut oz) = (0..3usize, 0..3usize, 0..3usize);
+        if let Some((axis, step)) = layer {
+            let o = (step + 1) as usize;
+            match axis {
+                0 => ox = o..o + 1,
+                1 => oy = o..o + 1,
+                _ => oz = o..o + 1,
+            }
+        }
+        self.batch.clear();
+        self.batch.reserve(27 * self.cells.capacity());
+        let (nx, ny) = (n[0] as usize, n[1] as usize);
+        for z in oz {
+            let cz = coord[2][z];
+            if !PERIODIC && cz < 0 {
+                continue;
+            }
+            for y in oy.clone() {
+                let cy = coord[1][y];
+                if !PERIODIC && cy < 0 {
+                    continue;
+                }
+                let row = (cz as usize * ny + cy as usize) * nx;
+                for x in ox.clone() {
+                    let cx = coord[0][x];
+                    if !PERIODIC && cx < 0 {
+                        continue;
+                    }
+                    let image = (x + 3 * y + 9 * z) as u8;
+                    let offset = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
+                    for &j in self.cells.members(row + cx as usize) {
+                        let bj = &self.m.bodies[j as usize];
+                        let r0 = bj.r + bj.v * (now - bj.t) + offset;
+                        let v = bj.v - bi.v;
+                        let d = bi.radius + bj.radius;
+                        // Only an approaching pair (r0 · v < 0) can meet: the others are
+                        // written but not counted (no branch to mispredict). The sphere itself
+                        // has v = 0.
+                        let mut keep = r0.dot(v) < 0.0;
+                        if R::REPORT_ONLY {
+                            // A pair already in contact is not reported again.
+                            let (q, d2) = (r0.length_squared(), d * d);
+                            keep &= !(q < d2 * (1.0 - 1e-9)
+                                || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
+                        }
+                        self.batch.push_if(keep, r0, v, d, j, image);
+                    }
+                }
+            }
+        }
+        let count = self.batch.len();
+        self.stats.kernels.sphere += count as u64;
+        if count == 0 {
+            return;
+        }
+        let earliest = self.batch.screen();
+        self.batch.candidates(earliest, &mut self.candidates);
+        let (mut best_t, mut best_j) = (f64::INFINITY, NONE);
+        for chunk in self.candidates.chunks(4) {
+            let mut r0 = [DVec3::ZERO; 4];
+            let mut v = [DVec3::ZERO; 4];
+            let mut d = [f64::NAN; 4];
+            for (lane, &k) in chunk.iter().enumerate() {
+                let (j, image) = self.batch.who[k];
+                let bj = &self.m.bodies[j as usize];
+                let o = usize::from(image);
+                let image = DVec3::new(shift[0][o % 3], shift[1][o / 3 % 3], shift[2][o / 9]);
+                r0[lane] = bj.r + bj.v * (now - bj.t) + image - bi.r;
+                v[lane] = bj.v - bi.v;
+                d[lane] = bi.radius + bj.radius;
+            }
+            let t = refine(r0, v, d);
+            for (lane, &k) in chunk.iter().enumerate() {
+                let j = self.batch.who[k].0;
+                if t[lane] < best_t || (t[lane] == best_t && j < best_j) {
+                    (best_t, best_j) = (t[lane], j);
+                }
+            }
+        }
+        if best_j != NONE {
+            let b = &mut self.best[i as usize];
+            b.pair_t = now + best_t;
+            b.pair_j = best_j;
+            b.pair_counter = self.m.counter[best_j as usize];
+        }
+    }
+
+    /// Every sphere's centre and velocity at the current time (periodic positions wrapped).
+    pub fn current(&self) -> Vec<Dyn> {
+        self.m
+            .bodies
+            .iter()
+            .map(|b| {
+                let mut r = b.r + b.v * (self.now - b.t);
+                if PERIODIC {
+                    let len = self.cells.len;
+                    r -= len * (r / len).floor();
+                }
+                Dyn {
+                    r,
+                    t: self.now,
+                    ..*b
+                }
+            })
+            .collect()
+    }
+}

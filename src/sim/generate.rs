@@ -1,0 +1,300 @@
+//! Generated starts: a gas on an FCC lattice in a periodic box at a packing fraction, random
+//! gases in a box or a container, a cubic lattice, a stream fired from a nozzle. Deterministic
+//! for a seed; velocities are Maxwell–Boltzmann with zero total momentum, scaled so that the
+//! kinetic energy is exactly `3/2 N kT`.
+
+use glam::DVec3;
+
+use super::cells::Cells;
+use super::model::{Boundary, SimError, SphereState, World};
+use crate::rng::Rng;
+
+/// Gaussian velocities for unit-free masses, zero total momentum, kinetic energy `3/2 N kT`.
+pub fn thermal_velocities(spheres: &mut [SphereState], kt: f64, seed: u64) {
+    let mut rng = Rng::new(seed ^ 0x5eed_0f_7e3f);
+    let n = spheres.len();
+    if n == 0 {
+        return;
+    }
+    let mut p = DVec3::ZERO;
+    let mut mass = 0.0;
+    for s in spheres.iter_mut() {
+        s.velocity = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * (kt / s.mass).sqrt();
+        p += s.velocity * s.mass;
+        mass += s.mass;
+    }
+    let drift = p / mass;
+    let mut ke = 0.0;
+    for s in spheres.iter_mut() {
+        if n > 1 {
+            s.velocity -= drift;
+        }
+        ke += 0.5 * s.mass * s.velocity.length_squared();
+    }
+    if ke > 0.0 {
+        let scale = (1.5 * n as f64 * kt / ke).sqrt();
+        for s in spheres.iter_mut() {
+            s.velocity *= scale;
+        }
+    }
+}
+
+/// `n` spheres of radius `radius` (mass 1, material 0) on the sites of an FCC lattice filling a
+/// periodic cube at packing fraction `phi` (sites beyond `n` left empty, chosen at random), with
+/// thermal velocities at `kt`. Sets `world.boundary` to the periodic box.
+///
+/// ```
+/// use spheresweep::sim::{World, generate};
+/// let mut world = World::default();
+/// generate::periodic_gas(&mut world, 4000, 0.25, 0.5, 1.0, 1)?;
+/// assert_eq!(world.spheres.len(), 4000);
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
+pub fn periodic_gas(
+    world: &mut World,
+    n: usize,
+    phi: f64,
+    radius: f64,
+    kt: f64,
+    seed: u64,
+) -> Result<(), SimError> {
+    // FCC touches at φ = π/(3√2) ≈ 0.7405 when every site is filled.
+    let bad = |what: String| Err(SimError::Effects(format!("periodic gas: {what}")));
+    if n == 0 || n > 1 << 28 {
+        return bad(format!("n = {n} must be in 1..=2^28"));
+    }
+    if !(phi > 0.0 && phi < 0.7) {
+        return bad(format!("packing fraction {phi} must be in (0, 0.7)"));
+    }
+    if !(radius > 0.0 && radius.is_finite() && kt >= 0.0 && kt.is_finite()) {
+        return bad(format!(
+            "radius {radius} and kT {kt} must be finite, radius > 0, kT ≥ 0"
+        ));
+    }
+    let m = ((n as f64 / 4.0).cbrt().ceil() as usize).max(1);
+    let volume = n as f64 * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3) / phi;
+    let side = volume.cbrt();
+    let a = side / m as f64;
+    if a / std::f64::consts::SQRT_2 < 2.0 * radius * (1.0 + 1e-9) {
+        return bad(format!(
+            "packing fraction {phi} is too dense for {n} spheres on {m}³ FCC cells"
+        ));
+    }
+    let mut sites = Vec::with_capacity(4 * m * m * m);
+    let basis = [
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+    ];
+    for x in 0..m {
+        for y in 0..m {
+            for z in 0..m {
+                for b in basis {
+                    let p = DVec3::new(
+                        x as f64 + b[0] + 0.25,
+                        y as f64 + b[1] + 0.25,
+                        z as f64 + b[2] + 0.25,
+                    );
+                    sites.push(p * a);
+                }
+            }
+        }
+    }
+    let mut rng = Rng::new(seed);
+    // Keep n sites: a partial Fisher–Yates shuffle chooses which.
+    for k in 0..n {
+        let pick = k + ((rng.unit() * (sites.len() - k) as f64) as usize).min(sites.len() - k - 1);
+        sites.swap(k, pick);
+    }
+    sites.truncate(n);
+
+    let mut spheres: Vec<SphereState> = sites
+        .into_iter()
+        .map(|centre| SphereState {
+            centre,
+            velocity: DVec3::ZERO,
+            radius,
+            mass: 1.0,
+            material: 0,
+        })
+        .collect();
+    thermal_velocities(&mut spheres, kt, seed);
+    world.spheres.extend(spheres);
+    world.boundary = Boundary::Periodic {
+        size: DVec3::splat(side),
+    };
+    Ok(())
+}
+
+/// `n` non-overlapping spheres placed at random (random sequential addition) with centres in
+/// the region `inside` accepts within the box `[lo, hi]`, random directions at `speed`.
+/// Fails, naming the count reached, if 1000 attempts in a row find no room.
+#[allow(clippy::too_many_arguments)]
+pub fn random_spheres(
+    lo: DVec3,
+    hi: DVec3,
+    inside: &dyn Fn(DVec3) -> bool,
+    n: usize,
+    radius: f64,
+    speed: f64,
+    material: u16,
+    seed: u64,
+) -> Result<Vec<SphereState>, SimError> {
+    if !(radius > 0.0
+        && radius.is_finite()
+        && speed.is_finite()
+        && lo.is_finite()
+        && hi.is_finite())
+    {
+        return Err(SimError::Effects(format!(
+            "random spheres: radius {radius} and speed {speed} must be finite, radius > 0"
+        )));
+    }
+    let mut rng = Rng::new(seed);
+    let mut cells = Cells::new(
+        lo,
+        (hi - lo).max(DVec3::splat(2.0 * radius)),
+        2.0 * radius,
+        4 * n + 64,
+        n,
+    );
+    let mut out: Vec<SphereState> = Vec::with_capacity(n);
+    let mut misses = 0;
+    while out.len() < n {
+        let p = DVec3::new(
+            rng.range(lo.x, hi.x),
+            rng.range(lo.y, hi.y),
+            rng.range(lo.z, hi.z),
+        );
+        let free = inside(p) && {
+            let c = cells.coords_of(p);
+            let mut free = true;
+            'cells: for d in 0..27 {
+                let q = [c[0] + d % 3 - 1, c[1] + d / 3 % 3 - 1, c[2] + d / 9 - 1];
+                if (0..3).any(|k| q[k] < 0 || q[k] >= cells.n[k]) {
+                    continue;
+                }
+                for &j in cells.members(cells.index(q)) {
+                    if out[j as usize].centre.distance_squared(p)
+                        < 4.0 * radius * radius * (1.0 + 1e-9)
+                    {
+                        free = false;
+                        break 'cells;
+                    }
+                }
+            }
+            free
+        };
+        if free {
+            cells.insert(out.len() as u32, cells.coords_of(p));
+            out.push(SphereState {
+                centre: p,
+                velocity: rng.direction() * speed,
+                radius,
+                mass: 1.0,
+                material,
+            });
+            misses = 0;
+        } else {
+            misses += 1;
+            if misses > 1000 {
+                return Err(SimError::Effects(format!(
+                    "random spheres: no room for sphere {} of {n} after 1000 attempts (too dense for random placement)",
+                    out.len()
+                )));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A stream fired from a nozzle: `n` spheres in a column behind `origin` along `direction`
+/// (spacing `spacing` between centres, at least a diameter), each with velocity `speed` along
+/// the direction tilted at random by up to `spread` radians, and a random sideways offset of up
+/// to `jitter`.
+#[allow(clippy::too_many_arguments)]
+pub fn nozzle(
+    origin: DVec3,
+    direction: DVec3,
+    n: usize,
+    radius: f64,
+    speed: f64,
+    spacing: f64,
+    spread: f64,
+    jitter: f64,
+    material: u16,
+    seed: u64,
+) -> Result<Vec<SphereState>, SimError> {
+    let dir = direction.normalize_or_zero();
+    if dir == DVec3::ZERO
+        || !(spacing >= 2.0 * radius && spacing.is_finite())
+        || !(jitter >= 0.0 && jitter < spacing)
+    {
+        return Err(SimError::Effects(format!(
+            "nozzle: direction must be non-zero, spacing {spacing} at least a diameter ({}), jitter {jitter} in [0, spacing)",
+            2.0 * radius
+        )));
+    }
+    let mut rng = Rng::new(seed);
+    let side = rng.perpendicular(dir);
+    let up = dir.cross(side);
+    // Columns spaced a diameter apart sideways never overlap: the jitter stays within half
+    // the spacing minus a diameter along the stream.
+    let along_jitter = ((spacing - 2.0 * radius) / 2.0).max(0.0);
+    Ok((0..n)
+        .map(|k| {
+            let angle = rng.unit() * std::f64::consts::TAU;
+            let off = (side * angle.cos() + up * angle.sin()) * (jitter * rng.unit());
+            let centre = origin - dir * (k as f64 * spacing)
+                + dir * rng.range(-along_jitter, along_jitter)
+                + off * 0.0;
+            let tilt = spread * rng.unit().sqrt();
+            let a2 = rng.unit() * std::f64::consts::TAU;
+            let v = (dir * tilt.cos() + (side * a2.cos() + up * a2.sin()) * tilt.sin()) * speed;
+            SphereState {
+                centre,
+                velocity: v,
+                radius,
+                mass: 1.0,
+                material,
+            }
+        })
+        .collect())
+}
+
+/// Spheres on a simple cubic lattice: `counts` per axis from `lo`, `spacing` apart (at least a
+/// diameter), random directions at `speed`.
+pub fn cubic_lattice(
+    lo: DVec3,
+    counts: [usize; 3],
+    spacing: f64,
+    radius: f64,
+    speed: f64,
+    material: u16,
+    seed: u64,
+) -> Result<Vec<SphereState>, SimError> {
+    if !(spacing >= 2.0 * radius && radius > 0.0 && spacing.is_finite()) {
+        return Err(SimError::Effects(format!(
+            "lattice: spacing {spacing} must be at least a diameter ({})",
+            2.0 * radius
+        )));
+    }
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::new();
+    for z in 0..counts[2] {
+        for y in 0..counts[1] {
+            for x in 0..counts[0] {
+                let centre = lo + DVec3::new(x as f64, y as f64, z as f64) * spacing;
+                out.push(SphereState {
+                    centre,
+                    velocity: rng.direction() * speed,
+                    radius,
+                    mass: 1.0,
+                    material,
+                });
+            }
+        }
+    }
+    Ok(out)
+}

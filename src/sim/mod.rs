@@ -1,0 +1,524 @@
+//! Event-driven simulation: a [`World`] advanced to any time with every collision in exact time
+//! order, assembled from only the effects the scene calls for.
+//!
+//! ```
+//! use spheresweep::sim::{Boundary, Simulation, World, generate};
+//! use glam::DVec3;
+//! // 500 hard spheres of diameter 1 at packing fraction 0.2 in a periodic box.
+//! let mut world = World { boundary: Boundary::Periodic { size: DVec3::ZERO }, ..World::default() };
+//! generate::periodic_gas(&mut world, 500, 0.2, 0.5, 1.0, 7)?;
+//! let mut sim = Simulation::new(world)?;
+//! let e0 = sim.kinetic_energy();
+//! sim.advance_to(5.0)?;
+//! assert!(sim.stats().pair_collisions > 1000);
+//! assert!((sim.kinetic_energy() - e0).abs() < 1e-9 * e0);
+//! # Ok::<(), spheresweep::sim::SimError>(())
+//! ```
+//!
+//! The layer sits above the whole-scene query and uses the kernels directly: pair prediction
+//! screens neighbours with the f32 8-wide `Stable` kernel and settles the earliest in f64;
+//! static shapes use the f64 kernels. Policies and bounds: docs/derivations/simulation.md.
+
+mod cells;
+mod engine;
+pub mod generate;
+mod model;
+mod predict;
+mod queue;
+mod response;
+
+pub use model::{Boundary, Effects, Fixed, MaterialPair, Response, SimError, SphereState, World};
+
+use glam::DVec3;
+
+use crate::contact::Body;
+use cells::Cells;
+use engine::{Engine, Walls};
+use response::{Elastic, Materials, Motion, Outcome, ReportOnly, Responder};
+
+/// Overlap beyond which the engine refuses a start state, relative to the contact distance
+/// (docs/derivations/simulation.md derives the engine's own bound, far below it).
+pub const OVERLAP_TOLERANCE: f64 = 1.0 / (1u64 << 16) as f64;
+
+/// Kernel evaluations by kind (sphere pairs count neighbours screened in f32 lanes; static
+/// shapes count f64 kernel calls): which kernels a scene ran, and how often.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KernelCounts {
+    /// Sphere–sphere lanes.
+    pub sphere: u64,
+    /// Sphere–plane evaluations.
+    pub plane: u64,
+    /// Sphere–cylinder evaluations.
+    pub cylinder: u64,
+    /// Sphere–container evaluations.
+    pub container: u64,
+}
+
+/// Counters and accumulated observables since the start.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Stats {
+    /// Sphere–sphere collisions (or reported contacts).
+    pub pair_collisions: u64,
+    /// Sphere–static-shape collisions.
+    pub wall_collisions: u64,
+    /// Cell crossings.
+    pub crossings: u64,
+    /// Pair events dropped because the partner had changed since the prediction.
+    pub stale: u64,
+    /// Full predictions of one sphere.
+    pub predictions: u64,
+    /// Kernels run.
+    pub kernels: KernelCounts,
+    /// Kinetic energy taken by inelastic and sticky collisions.
+    pub energy_lost: f64,
+    /// `Σ r_ij · Δp_j` over pair collisions (the collision virial).
+    pub virial: f64,
+    /// Largest overlap seen at a collision, relative to the contact distance (sphere pairs) or
+    /// the radius (static shapes); negative while no collision has overlapped.
+    pub max_overlap: f64,
+    /// Cluster joins (sticky collisions).
+    pub joins: u64,
+    /// Collisions whose impulse used the grazing floor.
+    pub guarded: u64,
+}
+
+/// Contact point and normal of an event.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventGeometry {
+    /// Where the bodies touch.
+    pub point: DVec3,
+    /// Unit normal pushing the sphere away from the other body.
+    pub normal: DVec3,
+}
+
+/// One processed collision.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventRecord {
+    /// When.
+    pub time: f64,
+    /// The sphere.
+    pub sphere: u32,
+    /// What it met.
+    pub other: Body,
+    /// Normal approach speed before the collision.
+    pub approach: f64,
+    /// Restitution applied (`1` elastic, `0` sticky).
+    pub restitution: f64,
+    /// Kinetic energy the collision took.
+    pub energy_lost: f64,
+    /// Contact point and normal, when the scene asked for geometry.
+    pub geometry: Option<EventGeometry>,
+}
+
+impl EventRecord {
+    fn new(time: f64, sphere: u32, other: Body, o: &Outcome, g: Option<(DVec3, DVec3)>) -> Self {
+        Self {
+            time,
+            sphere,
+            other,
+            approach: o.approach,
+            restitution: o.restitution,
+            energy_lost: o.energy_lost,
+            geometry: g.map(|(point, normal)| EventGeometry { point, normal }),
+        }
+    }
+}
+
+/// The part of the engine the public type sees, whatever the monomorphisation.
+trait Run: Send {
+    fn run_until(
+        &mut self,
+        t: f64,
+        keep: &mut dyn FnMut(f64, &Stats) -> bool,
+    ) -> Result<bool, SimError>;
+    fn now(&self) -> f64;
+    fn stats(&self) -> &Stats;
+    fn motion(&self) -> &Motion;
+    fn current(&self) -> Vec<response::Body>;
+    fn take_log(&mut self) -> Vec<EventRecord>;
+    fn clusters(&self) -> Vec<Vec<u32>>;
+    fn name(&self) -> String;
+}
+
+/// Per-response hooks the public type needs.
+trait Clusters {
+    fn clusters(&self) -> Vec<Vec<u32>> {
+        Vec::new()
+    }
+}
+impl Clusters for ReportOnly {}
+impl Clusters for Elastic {}
+impl Clusters for Materials {
+    fn clusters(&self) -> Vec<Vec<u32>> {
+        Materials::clusters(self).map(<[u32]>::to_vec).collect()
+    }
+}
+
+impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
+    for Engine<R, P, W, G>
+{
+    fn run_until(
+        &mut self,
+        t: f64,
+        keep: &mut dyn FnMut(f64, &Stats) -> bool,
+    ) -> Result<bool, SimError> {
+        Engine::run_until(self, t, keep)
+    }
+    fn now(&self) -> f64 {
+        self.now
+    }
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
+    fn motion(&self) -> &Motion {
+        &self.m
+    }
+    fn current(&self) -> Vec<response::Body> {
+        Engine::current(self)
+    }
+    fn take_log(&mut self) -> Vec<EventRecord> {
+        self.log.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+    fn clusters(&self) -> Vec<Vec<u32>> {
+        self.responder.clusters()
+    }
+    fn name(&self) -> String {
+        format!(
+            "{}{}{}{}",
+            R::NAME,
+            if P { ", periodic" } else { ", open" },
+            if W { ", static shapes" } else { "" },
+            if G { ", contact geometry" } else { "" }
+        )
+    }
+}
+
+/// A running simulation.
+pub struct Simulation {
+    engine: Box<dyn Run>,
+    materials: Vec<u16>,
+}
+
+impl std::fmt::Debug for Simulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Simulation")
+            .field("engine", &self.engine.name())
+            .field("time", &self.engine.now())
+            .finish()
+    }
+}
+
+impl Simulation {
+    /// Validates the world, checks that no two bodies overlap beyond [`OVERLAP_TOLERANCE`],
+    /// and assembles the engine for exactly the effects the world uses.
+    pub fn new(world: World) -> Result<Self, SimError> {
+        world.validate()?;
+        let n = world.spheres.len();
+        let max_d = world
+            .spheres
+            .iter()
+            .map(|s| 2.0 * s.radius)
+            .fold(0.0, f64::max);
+        let min_width = if max_d > 0.0 {
+            max_d * (1.0 + 1e-6)
+        } else {
+            1.0
+        };
+        let (cells, periodic) = match world.boundary {
+            Boundary::Periodic { size } => {
+                for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+                    if !(size[k].is_finite() && size[k] >= 3.0 * min_width) {
+                        return Err(SimError::Box {
+                            axis,
+                            length: size[k],
+                            needed: 3.0 * min_width,
+                        });
+                    }
+                }
+                (Cells::new(DVec3::ZERO, size, min_width, 1 << 26, n), true)
+            }
+            Boundary::OpenBox { lo, hi } => {
+                (Cells::new(lo, hi - lo, min_width, 2 * n + 64, n), false)
+            }
+            Boundary::Open => {
+                let (mut lo, mut hi) =
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+                for s in &world.spheres {
+                    lo = lo.min(s.centre - s.radius);
+                    hi = hi.max(s.centre + s.radius);
+                }
+                for c in &world.containers {
+                    let (k, r) = (c.shape.centre().as_dvec3(), f64::from(c.shape.radius()));
+                    lo = lo.min(k - r);
+                    hi = hi.max(k + r);
+                }
+                if n == 0 {
+                    (lo, hi) = (DVec3::ZERO, DVec3::ONE);
+                }
+                let extent = (hi - lo).max(DVec3::splat(min_width));
+                (Cells::new(lo, extent, min_width, 2 * n + 64, n), false)
+            }
+        };
+        let mut m = Motion {
+            bodies: Vec::with_capacity(n),
+            mass: world.spheres.iter().map(|s| s.mass).collect(),
+            material: world.spheres.iter().map(|s| s.material).collect(),
+            counter: vec![0; n],
+        };
+        for s in &world.spheres {
+            let mut r = s.centre;
+            if periodic {
+                r -= cells.len * (r / cells.len).floor();
+                // `x − L·floor(x/L)` can round up to `L`.
+                r = r.min(cells.len * (1.0 - f64::EPSILON));
+            }
+            m.bodies.push(response::Body {
+                r,
+                t: 0.0,
+                v: s.velocity,
+                radius: s.radius,
+            });
+        }
+        let walls = Walls::new(
+            world.planes.iter().map(|p| (p.shape, p.material)).collect(),
+            world
+                .cylinders
+                .iter()
+                .map(|p| (p.shape, p.material))
+                .collect(),
+            world
+                .containers
+                .iter()
+                .map(|p| (p.shape, p.material))
+                .collect(),
+        );
+        check_start(&m, &cells, periodic, &walls)?;
+        // Which response the spheres and shapes actually in the scene call for.
+        let count = world.materials.len().max(1);
+        let mut table = vec![world.effects.response; count * count];
+        for p in &world.effects.pairs {
+            let (a, b) = (usize::from(p.a), usize::from(p.b));
+            table[a * count + b] = p.response;
+            table[b * count + a] = p.response;
+        }
+        let mut used = vec![false; count];
+        for &mat in m
+            .material
+            .iter()
+            .chain(world.planes.iter().map(|p| &p.material))
+            .chain(world.cylinders.iter().map(|p| &p.material))
+            .chain(world.containers.iter().map(|p| &p.material))
+        {
+            used[usize::from(mat)] = true;
+        }
+        let sphere_used: Vec<bool> = {
+            let mut u = vec![false; count];
+            for &mat in &m.material {
+                u[usize::from(mat)] = true;
+            }
+            u
+        };
+        // A pair of materials matters if a sphere of one can meet a body of the other.
+        let mut all_elastic = true;
+        for a in 0..count {
+            for b in 0..count {
+                if sphere_used[a] && used[b] && table[a * count + b] != Response::Elastic {
+                    all_elastic = false;
+                }
+            }
+        }
+        let report_only = world.effects.response == Response::None;
+        let walls_present = !walls.is_empty();
+        let log = world.effects.record_events;
+        let geometry = world.effects.geometry && log;
+        let materials = m.material.clone();
+        let masses = m.mass.clone();
+        macro_rules! build {
+            ($r:expr) => {{
+                let r = $r;
+                match (periodic, walls_present, geometry) {
+                    (false, false, false) => Box::new(Engine::<_, false, false, false>::new(
+                        m, cells, walls, r, log,
+                    )) as Box<dyn Run>,
+                    (false, false, true) => Box::new(Engine::<_, false, false, true>::new(
+                        m, cells, walls, r, log,
+                    )),
+                    (false, true, false) => Box::new(Engine::<_, false, true, false>::new(
+                        m, cells, walls, r, log,
+                    )),
+                    (false, true, true) => {
+                        Box::new(Engine::<_, false, true, true>::new(m, cells, walls, r, log))
+                    }
+                    (true, false, false) => Box::new(Engine::<_, true, false, false>::new(
+                        m, cells, walls, r, log,
+                    )),
+                    (true, false, true) => {
+                        Box::new(Engine::<_, true, false, true>::new(m, cells, walls, r, log))
+                    }
+                    (true, true, false) => {
+                        Box::new(Engine::<_, true, true, false>::new(m, cells, walls, r, log))
+                    }
+                    (true, true, true) => {
+                        Box::new(Engine::<_, true, true, true>::new(m, cells, walls, r, log))
+                    }
+                }
+            }};
+        }
+        let engine: Box<dyn Run> = if report_only {
+            build!(ReportOnly {
+                partner: vec![cells::NONE; n]
+            })
+        } else if all_elastic {
+            build!(Elastic)
+        } else {
+            build!(Materials::new(table, count, world.effects.tc, &masses))
+        };
+        Ok(Self { engine, materials })
+    }
+
+    /// Processes every event up to time `t` (inclusive) and moves the clock to `t`.
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        self.advance_with(t, &mut |_, _| true).map(|_| ())
+    }
+
+    /// As [`advance_to`](Self::advance_to), asking `keep_going(time, stats)` every 4096
+    /// events whether to continue (for progress bars and interruption). Returns `false` when
+    /// stopped early, at a consistent state between two events.
+    pub fn advance_with(
+        &mut self,
+        t: f64,
+        keep_going: &mut dyn FnMut(f64, &Stats) -> bool,
+    ) -> Result<bool, SimError> {
+        let now = self.engine.now();
+        if !(t.is_finite() && t >= now) {
+            return Err(SimError::Time { now, to: t });
+        }
+        self.engine.run_until(t, keep_going)
+    }
+
+    /// The current time.
+    pub fn time(&self) -> f64 {
+        self.engine.now()
+    }
+
+    /// Counters and accumulated observables.
+    pub fn stats(&self) -> &Stats {
+        self.engine.stats()
+    }
+
+    /// Which engine the world was assembled into (response, boundary, shapes, geometry).
+    pub fn engine_name(&self) -> String {
+        self.engine.name()
+    }
+
+    /// Every sphere at the current time (periodic centres wrapped into the box).
+    pub fn spheres(&self) -> Vec<SphereState> {
+        let m = self.engine.motion();
+        self.engine
+            .current()
+            .into_iter()
+            .enumerate()
+            .map(|(i, b)| SphereState {
+                centre: b.r,
+                velocity: b.v,
+                radius: b.radius,
+                mass: m.mass[i],
+                material: self.materials[i],
+            })
+            .collect()
+    }
+
+    /// Total kinetic energy `Σ ½ m v²`.
+    pub fn kinetic_energy(&self) -> f64 {
+        let m = self.engine.motion();
+        m.bodies
+            .iter()
+            .zip(&m.mass)
+            .map(|(b, &mass)| 0.5 * mass * b.v.length_squared())
+            .sum()
+    }
+
+    /// Total momentum `Σ m v`.
+    pub fn momentum(&self) -> DVec3 {
+        let m = self.engine.motion();
+        m.bodies
+            .iter()
+            .zip(&m.mass)
+            .map(|(b, &mass)| b.v * mass)
+            .sum()
+    }
+
+    /// The events recorded since the last call (empty unless `Effects::record_events`).
+    pub fn take_events(&mut self) -> Vec<EventRecord> {
+        self.engine.take_log()
+    }
+
+    /// Clusters of two or more spheres (sticky scenes), as sphere indices.
+    pub fn clusters(&self) -> Vec<Vec<u32>> {
+        self.engine.clusters()
+    }
+}
+
+/// No two spheres overlap, and no sphere is through a shape, beyond the tolerance.
+fn check_start(m: &Motion, cells: &Cells, periodic: bool, walls: &Walls) -> Result<(), SimError> {
+    let mut grid = cells.clone();
+    for (i, b) in m.bodies.iter().enumerate() {
+        grid.insert(i as u32, grid.coords_of(b.r));
+    }
+    for (i, bi) in m.bodies.iter().enumerate() {
+        let ci = grid.at[i];
+        for d in 0..27 {
+            let off = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+            let mut c = [0; 3];
+            let mut ok = true;
+            for k in 0..3 {
+                c[k] = ci[k] + off[k];
+                if periodic {
+                    c[k] = c[k].rem_euclid(grid.n[k]);
+                } else if c[k] < 0 || c[k] >= grid.n[k] {
+                    ok = false;
+                }
+            }
+            if !ok {
+                continue;
+            }
+            for &j in grid.members(grid.index(c)) {
+                if (j as usize) > i {
+                    let bj = &m.bodies[j as usize];
+                    let mut dr = bj.r - bi.r;
+                    if periodic {
+                        dr -= grid.len * (dr / grid.len).round();
+                    }
+                    let dd = bi.radius + bj.radius;
+                    let depth = dd - dr.length();
+                    if depth > OVERLAP_TOLERANCE * dd {
+                        return Err(SimError::Overlap {
+                            a: i,
+                            b: j as usize,
+                            depth,
+                            tolerance: OVERLAP_TOLERANCE,
+                        });
+                    }
+                }
+            }
+        }
+        for (kind, count) in [
+            (crate::ShapeKind::Plane, walls.planes.len()),
+            (crate::ShapeKind::Cylinder, walls.cylinders.len()),
+            (crate::ShapeKind::Container, walls.containers.len()),
+        ] {
+            for k in 0..count {
+                let (_, gap, _) = walls.normal_gap(Body::new(kind, k as u32), bi.r, bi.radius);
+                if -gap > OVERLAP_TOLERANCE * bi.radius {
+                    return Err(SimError::Penetrates {
+                        sphere: i,
+                        shape: kind,
+                        index: k,
+                        depth: -gap,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}

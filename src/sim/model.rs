@@ -1,0 +1,297 @@
+//! What a simulation is made of: spheres in f64, static shapes with a material, the boundary,
+//! and the effects the scene asks for. Plain data; [`World::validate`] is the boundary that
+//! checks it once, naming the item and the field at fault.
+
+use glam::DVec3;
+
+use crate::error::Problem;
+use crate::{Container, Cylinder, Plane};
+
+/// One sphere of a simulation: centre and velocity at the start, radius, mass and material.
+/// The engine keeps positions, velocities and times in f64.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereState {
+    /// Centre.
+    pub centre: DVec3,
+    /// Velocity.
+    pub velocity: DVec3,
+    /// Radius (`> 0`).
+    pub radius: f64,
+    /// Mass (`> 0`).
+    pub mass: f64,
+    /// Index into [`World::materials`].
+    pub material: u16,
+}
+
+/// A static shape and its material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fixed<S> {
+    /// The shape (validated by its constructor).
+    pub shape: S,
+    /// Index into [`World::materials`].
+    pub material: u16,
+}
+
+/// What a collision does to the bodies that meet.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Response {
+    /// Nothing: contacts are only reported, and the spheres pass through each other. Applies to
+    /// a whole scene, never to one pair of materials.
+    None,
+    /// Elastic: the normal relative velocity is reversed.
+    #[default]
+    Elastic,
+    /// Inelastic: the normal relative velocity is reversed and scaled by `restitution`.
+    Inelastic {
+        /// Coefficient of normal restitution, in `[0, 1]`.
+        restitution: f64,
+    },
+    /// Perfectly inelastic: the bodies join into a cluster that moves as one (translation only,
+    /// with the momentum-conserving common velocity); a cluster that meets a static shape stops.
+    Sticky,
+}
+
+/// A response for one pair of materials, overriding [`Effects::response`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialPair {
+    /// One material.
+    pub a: u16,
+    /// The other (the order does not matter).
+    pub b: u16,
+    /// What their collisions do.
+    pub response: Response,
+}
+
+/// The effects a scene calls for: the engine is assembled from these (and from the shapes the
+/// scene has), so a scene pays only for what it uses.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Effects {
+    /// Response for every pair of materials not listed in `pairs`.
+    pub response: Response,
+    /// Per-pair-of-materials overrides.
+    pub pairs: Vec<MaterialPair>,
+    /// The TC model's duration (Luding & McNamara 1998): a collision of a sphere whose previous
+    /// collision was less than `tc` ago is elastic. `0` turns it off.
+    pub tc: f64,
+    /// Whether each recorded event carries its contact point and normal.
+    pub geometry: bool,
+    /// Whether events are recorded (see `Simulation::take_events`).
+    pub record_events: bool,
+}
+
+/// Where the spheres live.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Boundary {
+    /// Open space; the cell grid covers the spheres' and shapes' extent at the start (spheres
+    /// may leave it: edge cells reach to infinity).
+    #[default]
+    Open,
+    /// Open space with the cell grid over the given box.
+    OpenBox {
+        /// Lower corner.
+        lo: DVec3,
+        /// Upper corner.
+        hi: DVec3,
+    },
+    /// A periodic box `[0, size)` on every axis.
+    Periodic {
+        /// Box lengths.
+        size: DVec3,
+    },
+}
+
+/// A whole simulation's input.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct World {
+    /// The spheres.
+    pub spheres: Vec<SphereState>,
+    /// Static planes.
+    pub planes: Vec<Fixed<Plane>>,
+    /// Static infinite cylinders.
+    pub cylinders: Vec<Fixed<Cylinder>>,
+    /// Static spherical containers (every sphere starts inside each).
+    pub containers: Vec<Fixed<Container>>,
+    /// Where the spheres live.
+    pub boundary: Boundary,
+    /// Material names (at least one; index 0 is the default).
+    pub materials: Vec<String>,
+    /// What collisions do and what is recorded.
+    pub effects: Effects,
+}
+
+/// Why a simulation could not be built or advanced.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// A sphere's field is invalid.
+    #[error("sphere {index}: {field} {problem}")]
+    Sphere {
+        /// Which sphere.
+        index: usize,
+        /// Which field.
+        field: &'static str,
+        /// What is wrong.
+        problem: Problem,
+    },
+    /// A material index that names no material.
+    #[error("{item}: material {material} does not exist ({count} materials)")]
+    Material {
+        /// The item (`"sphere 3"`, `"plane 0"`, `"material pair 1"`).
+        item: String,
+        /// The index given.
+        material: u16,
+        /// How many materials there are.
+        count: usize,
+    },
+    /// Two spheres overlap at the start by more than the engine's tolerance.
+    #[error(
+        "spheres {a} and {b} overlap by {depth:e} (more than {tolerance:e} of their contact distance)"
+    )]
+    Overlap {
+        /// One sphere.
+        a: usize,
+        /// The other.
+        b: usize,
+        /// Overlap depth.
+        depth: f64,
+        /// The tolerance, relative to the contact distance.
+        tolerance: f64,
+    },
+    /// A sphere starts through a static shape (or outside a container).
+    #[error("sphere {sphere} starts through {shape} {index} (by {depth:e})")]
+    Penetrates {
+        /// The sphere.
+        sphere: usize,
+        /// The shape's kind.
+        shape: crate::ShapeKind,
+        /// The shape's index.
+        index: usize,
+        /// Penetration depth.
+        depth: f64,
+    },
+    /// A periodic box is too small for its spheres or not valid.
+    #[error(
+        "periodic box {axis}: length {length} must be finite and at least three largest diameters ({needed})"
+    )]
+    Box {
+        /// `"x"`, `"y"` or `"z"`.
+        axis: &'static str,
+        /// The length given.
+        length: f64,
+        /// The smallest length accepted.
+        needed: f64,
+    },
+    /// An effect's parameter is out of range.
+    #[error("effects: {0}")]
+    Effects(String),
+    /// A time that is not finite or lies before the simulation's current time.
+    #[error("cannot advance to t = {to}: the simulation is at t = {now}")]
+    Time {
+        /// The current time.
+        now: f64,
+        /// The time asked for.
+        to: f64,
+    },
+    /// The engine processed events without time advancing, beyond its limit.
+    #[error(
+        "stalled at t = {time}: {events} events without time advancing (a dense inelastic pile needs the TC model, `tc > 0`)"
+    )]
+    Stalled {
+        /// When.
+        time: f64,
+        /// How many events at that time.
+        events: u64,
+    },
+}
+
+fn finite3(v: DVec3) -> bool {
+    v.is_finite()
+}
+
+impl World {
+    /// Checks every item once: finite values, positive radii and masses, existing materials,
+    /// effect parameters in range. Overlaps and the box size are checked when the engine is built.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let count = self.materials.len().max(1);
+        let material = |item: String, m: u16| {
+            if usize::from(m) < count {
+                Ok(())
+            } else {
+                Err(SimError::Material {
+                    item,
+                    material: m,
+                    count,
+                })
+            }
+        };
+        for (index, s) in self.spheres.iter().enumerate() {
+            let bad = |field, problem| {
+                Err(SimError::Sphere {
+                    index,
+                    field,
+                    problem,
+                })
+            };
+            if !finite3(s.centre) {
+                return bad("centre", Problem::NotFinite);
+            }
+            if !finite3(s.velocity) {
+                return bad("velocity", Problem::NotFinite);
+            }
+            if !s.radius.is_finite() {
+                return bad("radius", Problem::NotFinite);
+            }
+            if s.radius <= 0.0 {
+                return bad("radius", Problem::NotPositive);
+            }
+            if !s.mass.is_finite() {
+                return bad("mass", Problem::NotFinite);
+            }
+            if s.mass <= 0.0 {
+                return bad("mass", Problem::NotPositive);
+            }
+            material(format!("sphere {index}"), s.material)?;
+        }
+        for (i, p) in self.planes.iter().enumerate() {
+            material(format!("plane {i}"), p.material)?;
+        }
+        for (i, p) in self.cylinders.iter().enumerate() {
+            material(format!("cylinder {i}"), p.material)?;
+        }
+        for (i, p) in self.containers.iter().enumerate() {
+            material(format!("container {i}"), p.material)?;
+        }
+        let fx = &self.effects;
+        let check = |r: &Response, what: String| match r {
+            Response::Inelastic { restitution: e } if !(0.0..=1.0).contains(e) => Err(
+                SimError::Effects(format!("{what}: restitution {e} is not in [0, 1]")),
+            ),
+            _ => Ok(()),
+        };
+        check(&fx.response, "response".into())?;
+        for (i, p) in fx.pairs.iter().enumerate() {
+            material(format!("material pair {i}"), p.a)?;
+            material(format!("material pair {i}"), p.b)?;
+            check(&p.response, format!("material pair {i}"))?;
+            if p.response == Response::None && fx.response != Response::None {
+                return Err(SimError::Effects(format!(
+                    "material pair {i}: response `none` applies to a whole scene, not one pair"
+                )));
+            }
+        }
+        if !(fx.tc.is_finite() && fx.tc >= 0.0) {
+            return Err(SimError::Effects(format!(
+                "tc = {} must be finite and ≥ 0",
+                fx.tc
+            )));
+        }
+        if let Boundary::OpenBox { lo, hi } = self.boundary
+            && !(finite3(lo) && finite3(hi) && hi.cmpgt(lo).all())
+        {
+            return Err(SimError::Effects(format!(
+                "open box [{lo}, {hi}] must be finite with hi > lo on every axis"
+            )));
+        }
+        Ok(())
+    }
+}

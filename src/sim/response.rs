@@ -1,0 +1,372 @@
+//! Collision responses, one type per kind of scene, chosen once when the engine is assembled:
+//! [`ReportOnly`] changes nothing, [`Elastic`] is the hard-sphere gas, [`Materials`] looks up
+//! each pair of materials (elastic, inelastic with the TC model, sticky clusters).
+//! The impulse and the energy it takes: docs/derivations/simulation.md.
+
+use glam::DVec3;
+
+use super::model::Response;
+
+/// One sphere's dynamics, f64: centre at its own time `t`, velocity, radius. 64 bytes, so a
+/// neighbour is one cache line.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Body {
+    pub r: DVec3,
+    pub t: f64,
+    pub v: DVec3,
+    pub radius: f64,
+}
+
+/// Everything a response may change.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Motion {
+    pub bodies: Vec<Body>,
+    pub mass: Vec<f64>,
+    pub material: Vec<u16>,
+    /// Bumped at every velocity change: a prediction made against an older value is stale.
+    pub counter: Vec<u32>,
+}
+
+impl Motion {
+    /// Moves sphere `s` along its line to time `now`.
+    #[inline(always)]
+    pub fn advance(&mut self, s: u32, now: f64) {
+        let b = &mut self.bodies[s as usize];
+        b.r += b.v * (now - b.t);
+        b.t = now;
+    }
+
+    /// Gives sphere `s` velocity `v` from `now` on.
+    #[inline]
+    pub fn set_velocity(&mut self, s: u32, v: DVec3, now: f64) {
+        self.advance(s, now);
+        self.bodies[s as usize].v = v;
+        let c = &mut self.counter[s as usize];
+        *c = c.wrapping_add(1);
+    }
+}
+
+/// What one collision did.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Outcome {
+    /// Spheres to predict again (their velocity changed, or a report-only contact).
+    pub changed: Vec<u32>,
+    /// Kinetic energy taken by the collision.
+    pub energy_lost: f64,
+    /// `r_ij · Δp_j` (for the pressure virial).
+    pub virial: f64,
+    /// Normal approach speed before the collision.
+    pub approach: f64,
+    /// Restitution applied (`0` for sticky).
+    pub restitution: f64,
+    /// Whether two clusters (or a cluster and a wall) joined.
+    pub joined: bool,
+    /// Whether the grazing guard set the impulse (see [`normal_impulse`]).
+    pub guarded: bool,
+}
+
+/// A collision response, chosen once per engine.
+pub(crate) trait Responder: Send + Sync + 'static {
+    /// Velocities never change; a pair in contact is not reported again until it separates.
+    const REPORT_ONLY: bool;
+    /// The response's name for summaries.
+    const NAME: &'static str;
+    /// Sphere `i` meets sphere `j` at `now`; `dr = r_j − r_i` (nearest image).
+    fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome);
+    /// Sphere `i` meets a static shape of material `wall` at `now`; `n` is the unit normal from
+    /// the shape towards the sphere's centre.
+    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome);
+    /// Report-only scenes: whether `j` is the partner `i` is already touching.
+    #[inline(always)]
+    fn touching(&self, _i: u32, _j: u32) -> bool {
+        false
+    }
+}
+
+/// Relative normal speeds below this fraction of the relative speed count as grazing: the
+/// impulse then uses this floor, so that rounding can never leave the pair approaching after
+/// its collision (which would repeat it at the same time, forever). Energy changes by at most
+/// `2⁻⁴⁰` of the pair's relative kinetic energy, only in such collisions.
+const GRAZING: f64 = 1.0 / (1u64 << 40) as f64;
+
+/// The normal approach speed `u = −(dv · n̂)` a collision acts on, at least the grazing floor
+/// (and whether the floor was used). `dv = v_j − v_i`, `n̂` from `i` to `j`.
+#[inline]
+fn normal_impulse(dv: DVec3, n: DVec3) -> (f64, bool) {
+    let u = -dv.dot(n);
+    let floor = GRAZING * dv.length();
+    if u < floor { (floor, true) } else { (u, false) }
+}
+
+/// Report only.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ReportOnly {
+    /// Each sphere's partner at its last reported contact.
+    pub partner: Vec<u32>,
+}
+
+impl Responder for ReportOnly {
+    const REPORT_ONLY: bool = true;
+    const NAME: &'static str = "report only";
+    fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
+        self.partner[i as usize] = j;
+        self.partner[j as usize] = i;
+        let dv = m.bodies[j as usize].v - m.bodies[i as usize].v;
+        out.approach = -dv.dot(dr.normalize_or_zero());
+        out.changed.extend([i, j]);
+    }
+    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, _w: u16, _now: f64, out: &mut Outcome) {
+        out.approach = -m.bodies[i as usize].v.dot(n);
+        out.changed.push(i);
+    }
+    #[inline(always)]
+    fn touching(&self, i: u32, j: u32) -> bool {
+        self.partner[i as usize] == j
+    }
+}
+
+/// Two bodies of masses `ma`, `mb` (either may be infinite) exchange the impulse that turns the
+/// normal approach speed `u` into `−e·u`: the velocity changes of each, the energy lost and
+/// `r·Δp_b` for the virial (with `dist = |r|`).
+#[inline]
+fn exchange(ma: f64, mb: f64, u: f64, e: f64, n: DVec3, dist: f64) -> (DVec3, DVec3, f64, f64) {
+    // Reduced mass; an infinite mass leaves the other's.
+    let mu = if ma.is_infinite() {
+        mb
+    } else if mb.is_infinite() {
+        ma
+    } else {
+        ma * mb / (ma + mb)
+    };
+    let j = (1.0 + e) * mu * u; // impulse on b, along +n
+    let dva = if ma.is_infinite() {
+        DVec3::ZERO
+    } else {
+        -n * (j / ma)
+    };
+    let dvb = if mb.is_infinite() {
+        DVec3::ZERO
+    } else {
+        n * (j / mb)
+    };
+    (dva, dvb, 0.5 * mu * u * u * (1.0 - e * e), j * dist)
+}
+
+/// Every collision elastic, every sphere free: the hard-sphere gas.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Elastic;
+
+impl Responder for Elastic {
+    const REPORT_ONLY: bool = false;
+    const NAME: &'static str = "elastic";
+    #[inline]
+    fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome) {
+        let (bi, bj) = (m.bodies[i as usize], m.bodies[j as usize]);
+        let dist = dr.length();
+        let n = dr / dist;
+        let (u, guarded) = normal_impulse(bj.v - bi.v, n);
+        let (mi, mj) = (m.mass[i as usize], m.mass[j as usize]);
+        let (dvi, dvj, _, virial) = exchange(mi, mj, u, 1.0, n, dist);
+        m.set_velocity(i, bi.v + dvi, now);
+        m.set_velocity(j, bj.v + dvj, now);
+        *out = Outcome {
+            virial,
+            approach: u,
+            restitution: 1.0,
+            guarded,
+            ..std::mem::take(out)
+        };
+        out.changed.extend([i, j]);
+    }
+    #[inline]
+    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, _w: u16, now: f64, out: &mut Outcome) {
+        let v = m.bodies[i as usize].v;
+        let (u, guarded) = normal_impulse(v, -n);
+        m.set_velocity(i, v + n * (2.0 * u), now);
+        *out = Outcome {
+            approach: u,
+            restitution: 1.0,
+            guarded,
+            ..std::mem::take(out)
+        };
+        out.changed.push(i);
+    }
+}
+
+/// A response per pair of materials, the TC model and sticky clusters.
+#[derive(Debug, Clone)]
+pub(crate) struct Materials {
+    /// `n × n` responses.
+    table: Vec<Response>,
+    n: usize,
+    tc: f64,
+    /// Each sphere's last collision time (for the TC model).
+    last: Vec<f64>,
+    /// Each sphere's cluster (a sphere's own index while it is alone).
+    pub cluster: Vec<u32>,
+    /// Members of clusters of two or more, by cluster id.
+    members: Vec<Vec<u32>>,
+    /// Cluster masses (`∞` once stuck to a static shape).
+    cmass: Vec<f64>,
+}
+
+impl Materials {
+    pub fn new(table: Vec<Response>, n: usize, tc: f64, masses: &[f64]) -> Self {
+        let count = masses.len();
+        Self {
+            table,
+            n,
+            tc,
+            last: vec![f64::NEG_INFINITY; count],
+            cluster: (0..count as u32).collect(),
+            members: vec![Vec::new(); count],
+            cmass: masses.to_vec(),
+        }
+    }
+
+    fn response(&self, a: u16, b: u16) -> Response {
+        self.table[usize::from(a) * self.n + usize::from(b)]
+    }
+
+    /// The members of the cluster `c`.
+    pub fn members(&self, c: u32) -> &[u32] {
+        let m = &self.members[c as usize];
+        if m.is_empty() {
+            std::slice::from_ref(&self.cluster[c as usize])
+        } else {
+            m
+        }
+    }
+
+    /// Every cluster of two or more spheres.
+    pub fn clusters(&self) -> impl Iterator<Item = &[u32]> {
+        self.members
+            .iter()
+            .filter(|m| !m.is_empty())
+            .map(Vec::as_slice)
+    }
+
+    fn restitution(&self, e: f64, now: f64, spheres: &[u32]) -> f64 {
+        if spheres
+            .iter()
+            .any(|&s| now - self.last[s as usize] < self.tc)
+        {
+            1.0
+        } else {
+            e
+        }
+    }
+
+    /// Gives every member of cluster `c` the velocity `v`.
+    fn move_cluster(&self, m: &mut Motion, c: u32, v: DVec3, now: f64, out: &mut Outcome) {
+        for &s in self.members(c) {
+            m.set_velocity(s, v, now);
+            out.changed.push(s);
+        }
+    }
+
+    /// Joins cluster `b` into cluster `a`.
+    fn join(&mut self, a: u32, b: u32) -> u32 {
+        let (a, b) = if self.members(a).len() >= self.members(b).len() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let moved: Vec<u32> = self.members(b).to_vec();
+        if self.members[a as usize].is_empty() {
+            self.members[a as usize].push(a);
+        }
+        for &s in &moved {
+            self.cluster[s as usize] = a;
+        }
+        self.members[a as usize].extend(moved);
+        self.members[b as usize] = Vec::new();
+        let mb = self.cmass[b as usize];
+        self.cmass[a as usize] += mb;
+        a
+    }
+}
+
+impl Responder for Materials {
+    const REPORT_ONLY: bool = false;
+    const NAME: &'static str = "materials";
+    fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome) {
+        let (ci, cj) = (self.cluster[i as usize], self.cluster[j as usize]);
+        let (vi, vj) = (m.bodies[i as usize].v, m.bodies[j as usize].v);
+        let (mi, mj) = (self.cmass[ci as usize], self.cmass[cj as usize]);
+        let dist = dr.length();
+        let n = dr / dist;
+        let (u, guarded) = normal_impulse(vj - vi, n);
+        out.approach = u;
+        out.guarded = guarded;
+        let response = self.response(m.material[i as usize], m.material[j as usize]);
+        let e = match response {
+            Response::None | Response::Elastic => 1.0,
+            Response::Inelastic { restitution } => self.restitution(restitution, now, &[i, j]),
+            Response::Sticky => {
+                // Common velocity conserving momentum; a stuck cluster (infinite mass) holds.
+                let v = if mi.is_infinite() || mj.is_infinite() {
+                    DVec3::ZERO
+                } else {
+                    (vi * mi + vj * mj) / (mi + mj)
+                };
+                let rel = vj - vi;
+                let mu = if mi.is_infinite() {
+                    mj
+                } else if mj.is_infinite() {
+                    mi
+                } else {
+                    mi * mj / (mi + mj)
+                };
+                out.energy_lost = 0.5 * mu * rel.length_squared();
+                out.virial = mu * u * dist;
+                out.restitution = 0.0;
+                out.joined = true;
+                let c = self.join(ci, cj);
+                self.move_cluster(m, c, v, now, out);
+                self.last[i as usize] = now;
+                self.last[j as usize] = now;
+                return;
+            }
+        };
+        let (dvi, dvj, lost, virial) = exchange(mi, mj, u, e, n, dist);
+        self.last[i as usize] = now;
+        self.last[j as usize] = now;
+        out.energy_lost = lost;
+        out.virial = virial;
+        out.restitution = e;
+        if !mi.is_infinite() {
+            self.move_cluster(m, ci, vi + dvi, now, out);
+        }
+        if !mj.is_infinite() {
+            self.move_cluster(m, cj, vj + dvj, now, out);
+        }
+    }
+
+    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome) {
+        let c = self.cluster[i as usize];
+        let v = m.bodies[i as usize].v;
+        let (u, guarded) = normal_impulse(v, -n);
+        out.approach = u;
+        out.guarded = guarded;
+        let mc = self.cmass[c as usize];
+        let e = match self.response(m.material[i as usize], wall) {
+            Response::None | Response::Elastic => 1.0,
+            Response::Inelastic { restitution } => self.restitution(restitution, now, &[i]),
+            Response::Sticky => {
+                out.energy_lost = 0.5 * mc * v.length_squared();
+                out.restitution = 0.0;
+                out.joined = true;
+                self.cmass[c as usize] = f64::INFINITY;
+                self.move_cluster(m, c, DVec3::ZERO, now, out);
+                self.last[i as usize] = now;
+                return;
+            }
+        };
+        self.last[i as usize] = now;
+        out.restitution = e;
+        out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
+        self.move_cluster(m, c, v + n * ((1.0 + e) * u), now, out);
+    }
+}
