@@ -188,9 +188,11 @@ pub(crate) struct Engine<
     batch: PairBatch,
     candidates: Vec<usize>,
     outcome: Outcome,
-    /// Events processed at the current time in a row (the stall watchdog).
+    /// The stall watchdog: events since time last advanced by at least `min_progress`.
     same_time: u64,
     stall_limit: u64,
+    window_start: f64,
+    min_progress: f64,
 }
 
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
@@ -214,6 +216,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             outcome: Outcome::default(),
             same_time: 0,
             stall_limit: 1_000_000 + 1000 * n as u64,
+            window_start: 0.0,
+            min_progress: 0.0,
             m,
         };
         for i in 0..n as u32 {

@@ -248,7 +248,7 @@ pub fn nozzle(
             let off = (side * angle.cos() + up * angle.sin()) * (jitter * rng.unit());
             let centre = origin - dir * (k as f64 * spacing)
                 + dir * rng.range(-along_jitter, along_jitter)
-                + off * 0.0;
+                + off;
             let tilt = spread * rng.unit().sqrt();
             let a2 = rng.unit() * std::f64::consts::TAU;
             let v = (dir * tilt.cos() + (side * a2.cos() + up * a2.sin()) * tilt.sin()) * speed;

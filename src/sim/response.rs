@@ -91,7 +91,8 @@ pub(crate) trait Responder: Send + Sync + 'static {
 const GRAZING: f64 = 1.0 / (1u64 << 40) as f64;
 
 /// The normal approach speed `u = −(dv · n̂)` a collision acts on, at least the grazing floor
-/// (and whether the floor was used). `dv = v_j − v_i`, `n̂` from `i` to `j`.
+/// (and whether the floor was used). `dv = v_j − v_i`, `n̂` from `i` to `j` (for a static
+/// shape: `dv` the sphere's velocity, `n̂` from the shape to the sphere).
 #[inline]
 fn normal_impulse(dv: DVec3, n: DVec3) -> (f64, bool) {
     let u = -dv.dot(n);
@@ -182,7 +183,7 @@ impl Responder for Elastic {
     #[inline]
     fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, _w: u16, now: f64, out: &mut Outcome) {
         let v = m.bodies[i as usize].v;
-        let (u, guarded) = normal_impulse(v, -n);
+        let (u, guarded) = normal_impulse(v, n);
         m.set_velocity(i, v + n * (2.0 * u), now);
         *out = Outcome {
             approach: u,
@@ -347,7 +348,7 @@ impl Responder for Materials {
     fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome) {
         let c = self.cluster[i as usize];
         let v = m.bodies[i as usize].v;
-        let (u, guarded) = normal_impulse(v, -n);
+        let (u, guarded) = normal_impulse(v, n);
         out.approach = u;
         out.guarded = guarded;
         let mc = self.cmass[c as usize];

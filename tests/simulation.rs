@@ -1,0 +1,485 @@
+//! The event-driven engine tested as physics: conservation laws, the hard-sphere equation of
+//! state, the energy restitution takes, momentum of sticky clusters, walls that hold, no
+//! stalls; and as code: determinism, the query's first contacts, only the effects used.
+//! Bounds: docs/derivations/simulation.md.
+
+use glam::DVec3;
+use spheresweep::sim::{
+    Boundary, Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, Simulation, SphereState,
+    World, generate,
+};
+use spheresweep::{Container, Cylinder, Plane, ShapeKind};
+
+fn gas(n: usize, phi: f64, seed: u64) -> World {
+    let mut w = World::default();
+    generate::periodic_gas(&mut w, n, phi, 0.5, 1.0, seed).unwrap();
+    w
+}
+
+/// Largest overlap between any two spheres, relative to the contact distance (nearest image
+/// in a periodic box), by brute force over all pairs.
+fn max_overlap(spheres: &[SphereState], size: Option<DVec3>) -> f64 {
+    let mut worst = f64::NEG_INFINITY;
+    for (i, a) in spheres.iter().enumerate() {
+        for b in &spheres[i + 1..] {
+            let mut dr = b.centre - a.centre;
+            if let Some(l) = size {
+                dr -= l * (dr / l).round();
+            }
+            let d = a.radius + b.radius;
+            worst = worst.max((d - dr.length()) / d);
+        }
+    }
+    worst
+}
+
+fn box_size(w: &World) -> Option<DVec3> {
+    match w.boundary {
+        Boundary::Periodic { size } => Some(size),
+        _ => None,
+    }
+}
+
+/// An elastic gas conserves energy and momentum to rounding over 10⁶ collisions, and no pair
+/// ever overlaps beyond the engine's bound. The drift bound: each collision changes the energy
+/// by a few rounding errors of the pair's kinetic energy, a random walk over `K` collisions:
+/// `|ΔE|/E ≤ 8 ε √K` holds with room (docs/derivations/simulation.md).
+#[test]
+fn elastic_gas_conserves_energy_and_momentum_over_a_million_collisions() {
+    let w = gas(2048, 0.3, 11);
+    let size = box_size(&w);
+    let mut sim = Simulation::new(w).unwrap();
+    let (e0, p0) = (sim.kinetic_energy(), sim.momentum());
+    assert!(p0.length() < 1e-12, "generated momentum {p0}");
+    let mut t = 0.0;
+    while sim.stats().pair_collisions < 1_000_000 {
+        t += 2.0;
+        sim.advance_to(t).unwrap();
+        let overlap = max_overlap(&sim.spheres(), size);
+        assert!(
+            overlap <= OVERLAP_TOLERANCE,
+            "overlap {overlap:e} at t = {t}"
+        );
+    }
+    let k = sim.stats().pair_collisions as f64;
+    let drift = (sim.kinetic_energy() - e0).abs() / e0;
+    assert!(
+        drift <= 8.0 * f64::EPSILON * k.sqrt(),
+        "energy drift {drift:e} over {k} collisions"
+    );
+    let p = sim.momentum();
+    // Momentum: each collision adds rounding of size ε·|Δp| ~ ε·m·v; a random walk again.
+    assert!(
+        p.length() <= 8.0 * f64::EPSILON * k.sqrt() * 2048f64.sqrt(),
+        "momentum {p}"
+    );
+    assert!(
+        sim.stats().max_overlap <= OVERLAP_TOLERANCE,
+        "{:e}",
+        sim.stats().max_overlap
+    );
+    assert_eq!(
+        sim.stats().kernels.plane + sim.stats().kernels.cylinder + sim.stats().kernels.container,
+        0
+    );
+}
+
+/// Kolafa–Labík–Malijevský (2004): `Z = (1 + η + η² − ⅔(η³ + η⁴)) / (1 − η)³`.
+fn z_klm(eta: f64) -> f64 {
+    (1.0 + eta + eta * eta - 2.0 / 3.0 * (eta.powi(3) + eta.powi(4))) / (1.0 - eta).powi(3)
+}
+
+/// The pressure from the collision virial matches the KLM equation of state within three
+/// standard errors of the run's own block averages, at φ = 0.1 … 0.4.
+#[test]
+fn pressure_matches_the_klm_equation_of_state() {
+    for (phi, seed) in [(0.1, 1), (0.2, 2), (0.3, 3), (0.4, 4)] {
+        let n = 2048;
+        let mut sim = Simulation::new(gas(n, phi, seed)).unwrap();
+        // Melt the lattice: about 30 collisions per sphere.
+        let rate_guess = {
+            sim.advance_to(1.0).unwrap();
+            sim.stats().pair_collisions as f64
+        };
+        let melt = (30.0 * n as f64 / rate_guess).max(1.0);
+        sim.advance_to(1.0 + melt).unwrap();
+        // 24 blocks of about 8 collisions per sphere each.
+        let block = 8.0 * n as f64 / rate_guess;
+        let ke = sim.kinetic_energy();
+        let mut zs = Vec::new();
+        for _ in 0..24 {
+            let (w0, t0) = (sim.stats().virial, sim.time());
+            sim.advance_to(t0 + block).unwrap();
+            let w = sim.stats().virial - w0;
+            // Z = PV/(NkT) = 1 + Σ r·Δp / (3 N kT Δt), with N kT = 2 KE / 3.
+            zs.push(1.0 + w / (2.0 * ke * block));
+        }
+        let mean = zs.iter().sum::<f64>() / zs.len() as f64;
+        let var = zs.iter().map(|z| (z - mean).powi(2)).sum::<f64>() / (zs.len() - 1) as f64;
+        let se = (var / zs.len() as f64).sqrt();
+        let expected = z_klm(phi);
+        assert!(
+            (mean - expected).abs() <= 3.0 * se,
+            "φ = {phi}: Z = {mean:.5} ± {se:.5}, KLM {expected:.5} (off by {:.2} SE)",
+            (mean - expected) / se
+        );
+        // The standard error is small enough for the test to tell KLM from Carnahan–Starling
+        // at the denser states (they differ by 0.27 % at φ = 0.3).
+        if phi >= 0.3 {
+            assert!(
+                se < 0.003 * expected,
+                "φ = {phi}: standard error {se} too large to test"
+            );
+        }
+    }
+}
+
+fn granular(e: f64, tc: f64) -> World {
+    // A dense inelastic pile: spheres packed in a container, all moving.
+    let container = Container::new([0.0; 3], 8.0).unwrap();
+    let inside = |p: DVec3| p.length() < 7.4;
+    let spheres = generate::random_spheres(
+        DVec3::splat(-7.5),
+        DVec3::splat(7.5),
+        &inside,
+        900,
+        0.5,
+        1.0,
+        0,
+        5,
+    )
+    .unwrap();
+    World {
+        spheres,
+        containers: vec![Fixed {
+            shape: container,
+            material: 0,
+        }],
+        materials: vec!["grain".into()],
+        effects: Effects {
+            response: Response::Inelastic { restitution: e },
+            tc,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    }
+}
+
+/// Inelastic collisions take exactly the energy the restitution predicts: each event's
+/// `½ μ u² (1 − e²)` from its recorded approach speed sums to the kinetic energy lost, and the
+/// engine's own account agrees; nothing leaves the container; and the dense pile, with the TC
+/// model, reaches `T` without stalling.
+#[test]
+fn inelastic_collisions_take_the_energy_restitution_predicts() {
+    let w = granular(0.7, 1e-3);
+    let container = w.containers[0].shape;
+    let mut sim = Simulation::new(w).unwrap();
+    assert!(
+        sim.engine_name().starts_with("materials"),
+        "{}",
+        sim.engine_name()
+    );
+    let e0 = sim.kinetic_energy();
+    let mut predicted = 0.0;
+    for step in 1..=20 {
+        sim.advance_to(f64::from(step) * 2.0).unwrap();
+        for ev in sim.take_events() {
+            // Equal masses (1): μ = ½ for pairs; a wall has infinite mass, μ = 1.
+            let mu = if ev.other.kind == ShapeKind::Sphere {
+                0.5
+            } else {
+                1.0
+            };
+            let e = ev.restitution;
+            predicted += 0.5 * mu * ev.approach * ev.approach * (1.0 - e * e);
+            assert!(e == 0.7 || e == 1.0, "restitution {e}");
+        }
+        for s in sim.spheres() {
+            let out = s.centre.length() + s.radius - f64::from(container.radius());
+            assert!(
+                out <= OVERLAP_TOLERANCE * s.radius,
+                "a sphere left the container by {out:e}"
+            );
+        }
+    }
+    let lost = e0 - sim.kinetic_energy();
+    assert!(sim.stats().pair_collisions > 10_000);
+    assert!(lost > 0.5 * e0, "the pile should cool: lost {lost} of {e0}");
+    assert!(
+        (lost - predicted).abs() <= 1e-9 * e0,
+        "lost {lost}, predicted {predicted}"
+    );
+    assert!((lost - sim.stats().energy_lost).abs() <= 1e-9 * e0);
+}
+
+/// Without the TC model a dense, strongly inelastic pile collapses (infinitely many
+/// collisions in finite time); the engine says so instead of hanging. With it, the same pile
+/// runs to `T`.
+#[test]
+fn inelastic_collapse_is_caught_or_prevented() {
+    let mut with_tc = Simulation::new(granular(0.1, 1e-2)).unwrap();
+    with_tc.advance_to(50.0).unwrap();
+    let mut without = Simulation::new(granular(0.1, 0.0)).unwrap();
+    match without.advance_to(50.0) {
+        Ok(()) => {}
+        Err(e) => assert!(e.to_string().contains("stalled"), "{e}"),
+    }
+}
+
+/// Sticky clusters conserve momentum as they grow (free space, no walls), move as one, and
+/// sticky contact with a plane stops the cluster.
+#[test]
+fn sticky_clusters_conserve_momentum_and_move_as_one() {
+    let spheres = generate::random_spheres(
+        DVec3::splat(-10.0),
+        DVec3::splat(10.0),
+        &|_| true,
+        600,
+        0.5,
+        1.0,
+        0,
+        9,
+    )
+    .unwrap();
+    let w = World {
+        spheres,
+        materials: vec!["glue".into()],
+        effects: Effects {
+            response: Response::Sticky,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    let p0 = sim.momentum();
+    let e0 = sim.kinetic_energy();
+    sim.advance_to(30.0).unwrap();
+    let clusters = sim.clusters();
+    assert!(sim.stats().joins > 100, "joins {}", sim.stats().joins);
+    assert!(
+        clusters.iter().any(|c| c.len() >= 5),
+        "largest cluster {:?}",
+        clusters.iter().map(Vec::len).max()
+    );
+    let p = sim.momentum();
+    assert!(
+        (p - p0).length() <= 1e-12 * (2.0 * e0).sqrt() * 600.0,
+        "momentum {p0} → {p}"
+    );
+    let spheres = sim.spheres();
+    for c in &clusters {
+        let v = spheres[c[0] as usize].velocity;
+        assert!(
+            c.iter().all(|&s| spheres[s as usize].velocity == v),
+            "cluster members move apart"
+        );
+    }
+    assert!((e0 - sim.kinetic_energy() - sim.stats().energy_lost).abs() <= 1e-9 * e0);
+}
+
+/// Nothing passes through a plane or a pillar: a jet at a floor and cylinders, elastic walls.
+#[test]
+fn nothing_passes_through_planes_or_pillars() {
+    let floor = Plane::new([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]).unwrap();
+    let pillars: Vec<Cylinder> = (0..4)
+        .map(|k| {
+            let x = -3.0 + 2.0 * k as f32;
+            Cylinder::new([x, 0.5, 0.0], [x, 0.5, 1.0], 0.6).unwrap()
+        })
+        .collect();
+    let spheres = generate::nozzle(
+        DVec3::new(0.0, 0.0, 20.0),
+        DVec3::new(0.0, 0.0, -1.0),
+        400,
+        0.3,
+        4.0,
+        0.7,
+        0.3,
+        0.05,
+        0,
+        2,
+    )
+    .unwrap();
+    let w = World {
+        spheres,
+        planes: vec![Fixed {
+            shape: floor,
+            material: 0,
+        }],
+        cylinders: pillars
+            .iter()
+            .map(|&shape| Fixed { shape, material: 0 })
+            .collect(),
+        materials: vec!["steel".into()],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    assert!(sim.engine_name().contains("static shapes"));
+    for step in 1..=40 {
+        sim.advance_to(f64::from(step) * 0.5).unwrap();
+        for s in sim.spheres() {
+            assert!(
+                s.centre.z - s.radius >= -OVERLAP_TOLERANCE * s.radius,
+                "through the floor: {}",
+                s.centre
+            );
+            for p in &pillars {
+                let axis = p.point().as_dvec3();
+                let radial = DVec3::new(s.centre.x - axis.x, s.centre.y - axis.y, 0.0).length();
+                let gap = radial - s.radius - f64::from(p.radius());
+                assert!(
+                    gap >= -OVERLAP_TOLERANCE * s.radius,
+                    "through a pillar by {gap:e}"
+                );
+            }
+        }
+    }
+    assert!(sim.stats().wall_collisions > 100);
+    assert!(sim.stats().kernels.cylinder > 0 && sim.stats().kernels.container == 0);
+}
+
+/// The same world gives the same run, bit for bit.
+#[test]
+fn runs_are_deterministic() {
+    let run = || {
+        let mut sim = Simulation::new(gas(500, 0.35, 3)).unwrap();
+        sim.advance_to(10.0).unwrap();
+        (sim.spheres(), *sim.stats())
+    };
+    assert_eq!(run(), run());
+}
+
+/// Report-only: each sphere's first reported contact is the whole-scene query's first contact
+/// (the f32 query against the f64 engine: the same pair, times within the f32 kernels' error).
+#[test]
+fn report_only_first_contacts_match_the_scene_query() {
+    let spheres = generate::random_spheres(
+        DVec3::splat(-6.0),
+        DVec3::splat(6.0),
+        &|_| true,
+        300,
+        0.4,
+        1.0,
+        0,
+        4,
+    )
+    .unwrap();
+    // Round to f32 so both sides see the same inputs.
+    let spheres: Vec<SphereState> = spheres
+        .into_iter()
+        .map(|s| SphereState {
+            centre: s.centre.as_vec3().as_dvec3(),
+            velocity: s.velocity.as_vec3().as_dvec3(),
+            ..s
+        })
+        .collect();
+    let store = spheresweep::SphereStore::from_spheres(
+        &spheres
+            .iter()
+            .map(|s| {
+                spheresweep::Sphere::new(
+                    s.centre.as_vec3().into(),
+                    s.velocity.as_vec3().into(),
+                    s.radius as f32,
+                    1.0,
+                )
+                .unwrap()
+            })
+            .collect::<Vec<_>>(),
+    );
+    let scene = spheresweep::scene::Scene {
+        spheres: store,
+        ..Default::default()
+    };
+    let t_max = 3.0;
+    let first = spheresweep::query::first_contacts(
+        &scene,
+        spheresweep::QueryOptions::new(t_max as f32, spheresweep::Accuracy::Stable).unwrap(),
+    );
+    let w = World {
+        spheres,
+        effects: Effects {
+            response: Response::None,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    assert!(sim.engine_name().starts_with("report only"));
+    sim.advance_to(t_max).unwrap();
+    let mut seen = vec![None; 300];
+    for ev in sim.take_events() {
+        let j = ev.other.index as usize;
+        for (a, b) in [(ev.sphere as usize, j), (j, ev.sphere as usize)] {
+            seen[a].get_or_insert((ev.time, b));
+        }
+    }
+    let mut compared = 0;
+    for (i, q) in first.iter().enumerate() {
+        match (q, seen[i]) {
+            (None, None) => {}
+            (Some(q), Some((t, j))) => {
+                assert_eq!(q.body.index as usize, j, "sphere {i}");
+                assert!(
+                    (f64::from(q.time) - t).abs() <= 1e-5 * (1.0 + t),
+                    "sphere {i}: {} vs {t}",
+                    q.time
+                );
+                compared += 1;
+            }
+            (q, s) => panic!("sphere {i}: query {q:?}, engine {s:?}"),
+        }
+    }
+    assert!(compared > 50, "only {compared} contacts compared");
+}
+
+/// Only the effects used: declaring materials and sticky pairs no sphere uses leaves the gas on
+/// the elastic engine, and no static kernel ever runs.
+#[test]
+fn unused_effects_cost_nothing() {
+    let mut w = gas(500, 0.25, 8);
+    w.materials = vec!["gas".into(), "glue".into()];
+    w.effects.pairs = vec![MaterialPair {
+        a: 1,
+        b: 1,
+        response: Response::Sticky,
+    }];
+    w.effects.tc = 0.5;
+    let mut sim = Simulation::new(w).unwrap();
+    assert_eq!(sim.engine_name(), "elastic, periodic");
+    sim.advance_to(2.0).unwrap();
+    let k = sim.stats().kernels;
+    assert!(k.sphere > 0 && k.plane == 0 && k.cylinder == 0 && k.container == 0);
+}
+
+/// Bad input is refused naming the item and the field; overlapping starts name both spheres.
+#[test]
+fn bad_worlds_are_refused_with_clear_errors() {
+    let mut w = gas(32, 0.2, 1);
+    w.spheres[3].radius = f64::NAN;
+    assert_eq!(
+        Simulation::new(w).unwrap_err().to_string(),
+        "sphere 3: radius is NaN or infinite"
+    );
+    let mut w = gas(32, 0.2, 1);
+    w.spheres[5].centre = w.spheres[2].centre + DVec3::new(0.5, 0.0, 0.0);
+    let e = Simulation::new(w).unwrap_err().to_string();
+    assert!(
+        e.starts_with("spheres 2 and 5 overlap") || e.starts_with("spheres 5 and 2 overlap"),
+        "{e}"
+    );
+    let mut w = gas(32, 0.2, 1);
+    w.spheres[0].material = 4;
+    assert!(
+        Simulation::new(w)
+            .unwrap_err()
+            .to_string()
+            .starts_with("sphere 0: material 4 does not exist")
+    );
+    let mut sim = Simulation::new(gas(32, 0.2, 1)).unwrap();
+    sim.advance_to(1.0).unwrap();
+    assert!(sim.advance_to(0.5).is_err());
+    assert!(sim.advance_to(f64::NAN).is_err());
+}
