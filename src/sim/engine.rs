@@ -186,6 +186,7 @@ pub(crate) struct Engine<
     pub stats: Stats,
     pub log: Option<Vec<EventRecord>>,
     batch: PairBatch,
+    near: Vec<(u32, u8)>,
     candidates: Vec<usize>,
     outcome: Outcome,
     /// The stall watchdog: events since time last advanced by at least `min_progress`.
@@ -212,6 +213,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             stats: Stats::default(),
             log: log.then(Vec::new),
             batch: PairBatch::default(),
+            near: Vec::new(),
             candidates: Vec::new(),
             outcome: Outcome::default(),
             same_time: 0,
@@ -528,8 +530,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 _ => oz = o..o + 1,
             }
         }
-        self.batch.clear();
-        self.batch.reserve(27 * self.cells.capacity());
+        // Phase 1: the neighbours' indices, touching each one's cache line so that the misses
+        // overlap (the loads are independent); phase 2 computes from lines already near.
+        self.near.clear();
+        let mut offsets = [DVec3::ZERO; 27];
+        let mut touch = 0.0;
         let (nx, ny) = (n[0] as usize, n[1] as usize);
         for z in oz {
             let cz = coord[2][z];
@@ -547,27 +552,33 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                     if !PERIODIC && cx < 0 {
                         continue;
                     }
-                    let image = (x + 3 * y + 9 * z) as u8;
-                    let offset = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
+                    let image = x + 3 * y + 9 * z;
+                    offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
                     for &j in self.cells.members(row + cx as usize) {
-                        let bj = &self.m.bodies[j as usize];
-                        let r0 = bj.r + bj.v * (now - bj.t) + offset;
-                        let v = bj.v - bi.v;
-                        let d = bi.radius + bj.radius;
-                        // Only an approaching pair (r0 · v < 0) can meet: the others are
-                        // written but not counted (no branch to mispredict). The sphere itself
-                        // has v = 0.
-                        let mut keep = r0.dot(v) < 0.0;
-                        if R::REPORT_ONLY {
-                            // A pair already in contact is not reported again.
-                            let (q, d2) = (r0.length_squared(), d * d);
-                            keep &= !(q < d2 * (1.0 - 1e-9)
-                                || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
-                        }
-                        self.batch.push_if(keep, r0, v, d, j, image);
+                        touch += self.m.bodies[j as usize].t;
+                        self.near.push((j, image as u8));
                     }
                 }
             }
+        }
+        std::hint::black_box(touch);
+        self.batch.clear();
+        self.batch.reserve(self.near.len());
+        for &(j, image) in &self.near {
+            let bj = &self.m.bodies[j as usize];
+            let r0 = bj.r + bj.v * (now - bj.t) + offsets[usize::from(image)];
+            let v = bj.v - bi.v;
+            let d = bi.radius + bj.radius;
+            // Only an approaching pair (r0 · v < 0) can meet: the others are written but not
+            // counted (no branch to mispredict). The sphere itself has v = 0.
+            let mut keep = r0.dot(v) < 0.0;
+            if R::REPORT_ONLY {
+                // A pair already in contact is not reported again.
+                let (q, d2) = (r0.length_squared(), d * d);
+                keep &= !(q < d2 * (1.0 - 1e-9)
+                    || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
+            }
+            self.batch.push_if(keep, r0, v, d, j, image);
         }
         let count = self.batch.len();
         self.stats.kernels.sphere += count as u64;
