@@ -5,6 +5,7 @@ mod bench;
 mod demo;
 mod output;
 mod picture;
+mod run;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -27,6 +28,9 @@ enum Command {
     /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
     /// throughput from the same run; write docs/accuracy.md and its SVG plot.
     Accuracy(accuracy::Args),
+    /// Simulate a scene file (TOML or JSON; docs/scene-format.md) to its end time: a progress
+    /// bar, then a summary; trajectory.xyz, events.csv and summary.json in the output directory.
+    Run(run::Args),
 }
 
 /// Parses the command line and runs it; errors go to stderr with a non-zero exit code.
@@ -36,6 +40,7 @@ fn main() -> ExitCode {
         Command::Demo(args) => demo::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Run(args) => run::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
