@@ -199,3 +199,205 @@ fn a_negative_window_is_a_clear_error() {
         text(&out.stderr)
     );
 }
+
+/// A shipped scene file.
+fn shipped(name: &str) -> String {
+    format!("{}/../../scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_shipped_scene_runs_and_writes_its_outputs() {
+    for (name, n, events) in [
+        ("hard_sphere_gas", 4000, false),
+        ("granular_jet", 3600, true),
+        ("sticky_aggregation", 2000, true),
+    ] {
+        let dir = scratch(&format!("run-{name}"));
+        let out = run(&[
+            "run",
+            &shipped(name),
+            "--out",
+            dir.to_str().unwrap(),
+            "--t-end",
+            "0.5",
+            "--snapshots",
+            "0.25",
+            "--quiet",
+        ]);
+        assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        let stdout = text(&out.stdout);
+        for line in ["engine ", "collisions ", "kinetic ", "max overlap "] {
+            assert!(stdout.contains(line), "{name}: no {line:?} in\n{stdout}");
+        }
+        let trajectory = std::fs::read_to_string(dir.join("trajectory.xyz")).unwrap();
+        let frames = spheresweep::io::xyz::read_frames(&trajectory).unwrap();
+        assert_eq!(frames.len(), 3, "{name}: frames at 0, 0.25 and 0.5");
+        for (f, t) in frames.iter().zip([0.0, 0.25, 0.5]) {
+            assert_eq!((f.spheres.len(), f.time), (n, t), "{name}");
+        }
+        assert_eq!(
+            frames[0].periodic_box.is_some(),
+            name == "hard_sphere_gas",
+            "{name}"
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["spheres"], n, "{name}");
+        assert_eq!(summary["t_end"], 0.5, "{name}");
+        assert!(summary["collisions"]["pair"].as_u64().is_some(), "{name}");
+        assert!(summary["kinetic_energy"]["relative_drift"].is_f64());
+        let csv = dir.join("events.csv");
+        assert_eq!(csv.exists(), events, "{name}");
+        if events {
+            let log = std::fs::read_to_string(&csv).unwrap();
+            assert!(log.starts_with("time,sphere,other_kind,other_index,approach"));
+            assert_eq!(
+                log.lines().count() as u64 - 1,
+                summary["events"].as_u64().unwrap()
+            );
+        }
+        // Nothing but the outputs: no temporary file is left behind.
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let want: &[&str] = if events {
+            &["events.csv", "summary.json", "trajectory.xyz"]
+        } else {
+            &["summary.json", "trajectory.xyz"]
+        };
+        assert_eq!(names, want, "{name}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
+
+#[test]
+fn the_gas_pressure_is_printed_for_periodic_scenes() {
+    let dir = scratch("run-pressure");
+    let out = run(&[
+        "run",
+        &shipped("hard_sphere_gas"),
+        "--out",
+        dir.to_str().unwrap(),
+        "--t-end",
+        "1",
+        "--snapshots",
+        "0",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("Z = PV/(NkT) = ") && stdout.contains("Carnahan–Starling"),
+        "{stdout}"
+    );
+    assert!(!dir.join("trajectory.xyz").exists(), "--snapshots 0: none");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_typo_in_a_scene_names_the_field_and_line_and_writes_nothing() {
+    let dir = scratch("run-typo");
+    let scene = dir.join("typo.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1.0\n\n[[sphere]]\ncentre = [0.0, 0.0, 0.0]\nraduis = 0.5\n",
+    )
+    .unwrap();
+    let outputs = dir.join("out");
+    let out = run(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        outputs.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains(scene.to_str().unwrap())
+            && stderr.contains("line 6")
+            && stderr.contains("unknown field `raduis`"),
+        "{stderr}"
+    );
+    assert!(!outputs.exists(), "no output directory for a bad scene");
+    // The default directory beside the scene is not made either.
+    let out = run(&["run", scene.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(!dir.join("typo-run").exists());
+    // An undeclared material is named with its item and line.
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1.0\n\n[[sphere]]\ncentre = [0.0, 0.0, 0.0]\nradius = 0.5\nmaterial = \"rubber\"\n",
+    )
+    .unwrap();
+    let out = run(&["run", scene.to_str().unwrap()]);
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "{}:7: sphere 0: material \"rubber\" is not declared",
+            scene.display()
+        )),
+        "{stderr}"
+    );
+    assert!(!dir.join("typo-run").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_missing_scene_names_its_path() {
+    let out = run(&["run", "/no/such/dir/scene.toml"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("cannot read /no/such/dir/scene.toml"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn a_failed_run_leaves_earlier_outputs_whole() {
+    let dir = scratch("run-keep");
+    let scene = dir.join("pair.toml");
+    let good = "[run]\nt_end = 2.0\nsnapshot_every = 1.0\n\n\
+                [[sphere]]\ncentre = [0.0, 0.0, 0.0]\nvelocity = [1.0, 0.0, 0.0]\nradius = 0.5\n\n\
+                [[sphere]]\ncentre = [3.0, 0.0, 0.0]\nradius = 0.5\n";
+    std::fs::write(&scene, good).unwrap();
+    let out = run(&["run", scene.to_str().unwrap(), "--quiet"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let outputs = dir.join("pair-run");
+    let summary = std::fs::read_to_string(outputs.join("summary.json")).unwrap();
+    assert!(summary.contains("\"pair\": 1"), "{summary}");
+    let trajectory = std::fs::read_to_string(outputs.join("trajectory.xyz")).unwrap();
+    // Overlapping spheres: refused when the simulation is built, before any output.
+    std::fs::write(&scene, good.replace("[3.0, 0.0, 0.0]", "[0.5, 0.0, 0.0]")).unwrap();
+    let out = run(&["run", scene.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("sphere 0 and sphere 1: spheres 0 and 1 overlap"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(outputs.join("summary.json")).unwrap(),
+        summary
+    );
+    assert_eq!(
+        std::fs::read_to_string(outputs.join("trajectory.xyz")).unwrap(),
+        trajectory
+    );
+    // Bad overrides are refused before any work.
+    for (flag, value, message) in [
+        (
+            "--t-end",
+            "-1",
+            "--t-end -1 must be finite and greater than 0",
+        ),
+        ("--snapshots", "nan", "--snapshots NaN must be finite"),
+    ] {
+        let out = run(&["run", scene.to_str().unwrap(), flag, value]);
+        assert!(!out.status.success());
+        assert!(text(&out.stderr).contains(message), "{}", text(&out.stderr));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
