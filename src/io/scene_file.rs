@@ -1752,6 +1752,21 @@ radius = 30.0
     }
 
     #[test]
+    fn the_documented_example_builds_and_runs() {
+        let doc = include_str!("../../docs/scene-format.md");
+        let example = doc
+            .split("```toml\n")
+            .nth(1)
+            .and_then(|s| s.split("```").next())
+            .expect("docs/scene-format.md has a TOML example");
+        let scene = SceneFile::from_toml_str(example).unwrap();
+        let (mut sim, run) = scene.start().unwrap();
+        assert_eq!(sim.spheres().len(), 101);
+        sim.advance_to(run.t_end).unwrap();
+        assert!(sim.stats().pair_collisions > 0 && sim.stats().wall_collisions > 0);
+    }
+
+    #[test]
     fn files_are_named_in_messages() {
         let missing = Path::new("/no/such/scene.toml");
         let err = SceneFile::from_path(missing).unwrap_err().to_string();
