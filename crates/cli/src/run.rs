@@ -216,7 +216,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             Boundary::Open => "open".to_string(),
             Boundary::OpenBox { lo, hi } => format!("open (cell grid over [{lo}, {hi}])"),
             Boundary::Periodic { size } => {
-                format!("periodic box {} × {} × {}", size.x, size.y, size.z)
+                format!("periodic box {:.4} × {:.4} × {:.4}", size.x, size.y, size.z)
             }
         }
     );
@@ -264,7 +264,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         bar.set_draw_target(ProgressDrawTarget::hidden());
     }
     bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:30} {percent:>3}% {msg}",
+        "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
     )?);
     let t_end = settings.t_end;
     let mut simulated = Duration::ZERO;
@@ -274,8 +274,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         let mut progress = |t: f64, s: &Stats| {
             bar.set_position((t / t_end * 1000.0) as u64);
             bar.set_message(format!(
-                "t = {t:.4}  collisions {} pair, {} wall",
-                s.pair_collisions, s.wall_collisions
+                "t = {t:.4}, {} collisions",
+                s.pair_collisions + s.wall_collisions
             ));
             true
         };
