@@ -978,7 +978,7 @@ impl SceneFile {
                 Err(self.item_error(
                     "boundary",
                     &at(field),
-                    format!("{field} = {v} must be finite"),
+                    format!("{field} = {} must be finite", show(v)),
                 ))
             }
         };
@@ -1004,7 +1004,11 @@ impl SceneFile {
                     return Err(self.item_error(
                         "boundary",
                         &at("hi"),
-                        format!("hi = {hi} must exceed lo = {lo} on every axis"),
+                        format!(
+                            "hi = {} must exceed lo = {} on every axis",
+                            show(hi),
+                            show(lo)
+                        ),
                     ));
                 }
                 world.boundary = Boundary::OpenBox { lo, hi };
@@ -1020,7 +1024,7 @@ impl SceneFile {
                             return Err(self.item_error(
                                 "boundary",
                                 &at("size"),
-                                format!("size = {s} must be greater than 0 on every axis"),
+                                format!("size = {} must be greater than 0 on every axis", show(s)),
                             ));
                         }
                         Some(s)
@@ -1096,10 +1100,10 @@ impl SceneFile {
         };
         let (centre, velocity) = (DVec3::from_array(s.centre), DVec3::from_array(s.velocity));
         if !centre.is_finite() {
-            return bad("centre", format!("= {centre} must be finite"));
+            return bad("centre", format!("= {} must be finite", show(centre)));
         }
         if !velocity.is_finite() {
-            return bad("velocity", format!("= {velocity} must be finite"));
+            return bad("velocity", format!("= {} must be finite", show(velocity)));
         }
         if !(s.radius.is_finite() && s.radius > 0.0) {
             return bad(
@@ -1348,11 +1352,15 @@ impl SceneFile {
                     .into(),
             ));
         }
-        if !(lo.is_finite() && hi.is_finite() && hi.cmpgt(lo).all()) {
+        if !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite() && hi.cmpgt(lo).all()) {
             return Err(self.item_error(
                 item,
                 &path(if g.lo.is_some() { "hi" } else { "inside" }),
-                format!("the region [{lo}, {hi}] is empty or not finite"),
+                format!(
+                    "the region from {} to {} is empty or not finite",
+                    show(lo),
+                    show(hi)
+                ),
             ));
         }
         // Room beside every sphere already placed, and clear of every static shape.
@@ -1386,6 +1394,12 @@ impl SceneFile {
         )
         .map_err(|e| self.sim_error(item, &[Key("generate"), At(b)], e))
     }
+}
+
+/// A vector in messages: each component as the shortest decimal that reads back (exponent
+/// form for very large and small magnitudes).
+fn show(v: DVec3) -> String {
+    format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z)
 }
 
 /// Spheres already placed, hashed on a grid, to keep a random block clear of them.

@@ -214,7 +214,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         world.containers.len(),
         match world.boundary {
             Boundary::Open => "open".to_string(),
-            Boundary::OpenBox { lo, hi } => format!("open (cell grid over [{lo}, {hi}])"),
+            Boundary::OpenBox { lo, hi } => format!(
+                "open (cell grid from [{:?}, {:?}, {:?}] to [{:?}, {:?}, {:?}])",
+                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+            ),
             Boundary::Periodic { size } => {
                 format!("periodic box {:.4} × {:.4} × {:.4}", size.x, size.y, size.z)
             }
@@ -420,7 +423,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}",
         k.sphere, k.plane, k.cylinder, k.container
     )?;
-    if stats.max_overlap >= 0.0 {
+    if collisions > 0 {
         writeln!(
             out,
             "max overlap  {:.3e} of the contact distance",
