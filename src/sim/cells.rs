@@ -79,12 +79,6 @@ impl Cells {
         ((c[2] as usize * self.n[1] as usize) + c[1] as usize) * self.n[0] as usize + c[0] as usize
     }
 
-    /// Slots per cell: no cell holds more spheres.
-    #[inline]
-    pub fn capacity(&self) -> usize {
-        self.cap
-    }
-
     /// The spheres in cell `cell` (an [`index`](Self::index)).
     #[inline(always)]
     pub fn members(&self, cell: usize) -> &[u32] {

@@ -27,13 +27,71 @@ use crate::shape::ShapeKind;
 use crate::store::SphereLanes;
 use crate::{Container, Cylinder, Plane};
 
+/// A predicted pair contact: when, with whom, and the partner's counter at the prediction (the
+/// prediction is stale once the partner's velocity has changed).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Candidate {
+    pub t: f64,
+    pub j: u32,
+    pub counter: u32,
+}
+
+impl Candidate {
+    const NONE: Self = Self {
+        t: f64::INFINITY,
+        j: NONE,
+        counter: 0,
+    };
+
+    #[inline]
+    fn before(&self, o: &Self) -> bool {
+        self.t < o.t || (self.t == o.t && self.j < o.j)
+    }
+}
+
+/// The two earliest of two sorted candidate lists and whether the result holds every
+/// candidate. An incomplete list only bounds what it left out (no earlier than its last kept
+/// candidate), so nothing later than that bound may be kept from the other list: it could come
+/// after a candidate nobody kept.
+#[inline]
+fn merge(a: ([Candidate; 2], bool), b: ([Candidate; 2], bool)) -> ([Candidate; 2], bool) {
+    let bound = |(l, complete): ([Candidate; 2], bool)| {
+        if complete {
+            f64::INFINITY
+        } else {
+            l.iter()
+                .rev()
+                .find(|c| c.t.is_finite())
+                .map_or(f64::NEG_INFINITY, |c| c.t)
+        }
+    };
+    let limit = bound(a).min(bound(b));
+    let mut all = [a.0[0], a.0[1], b.0[0], b.0[1]];
+    all.sort_unstable_by(|x, y| x.t.total_cmp(&y.t).then(x.j.cmp(&y.j)));
+    let mut out = [Candidate::NONE; 2];
+    let mut complete = a.1 && b.1;
+    for (kept, c) in all
+        .into_iter()
+        .filter(|c| c.t.is_finite() && c.t <= limit)
+        .enumerate()
+    {
+        if kept == 2 {
+            complete = false;
+            break;
+        }
+        out[kept] = c;
+    }
+    (out, complete)
+}
+
 /// What a sphere's pending event is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Best {
-    /// Earliest predicted pair contact, its partner and the partner's counter then.
-    pub pair_t: f64,
-    pub pair_j: u32,
-    pub pair_counter: u32,
+    /// The two earliest predicted pair contacts (later ones are not kept).
+    pub pairs: [Candidate; 2],
+    /// Whether `pairs` held every pair contact predicted (else the others are later than
+    /// `pairs[1]`, and an emptied list calls for a new prediction).
+    pub complete: bool,
     /// Earliest static-shape contact.
     pub wall_t: f64,
     pub wall: Body,
@@ -46,9 +104,8 @@ pub(crate) struct Best {
 impl Default for Best {
     fn default() -> Self {
         Self {
-            pair_t: f64::INFINITY,
-            pair_j: NONE,
-            pair_counter: 0,
+            pairs: [Candidate::NONE; 2],
+            complete: true,
             wall_t: f64::INFINITY,
             wall: Body::new(ShapeKind::Plane, 0),
             cross_t: f64::INFINITY,
@@ -61,7 +118,7 @@ impl Default for Best {
 impl Best {
     #[inline]
     fn time(&self) -> f64 {
-        self.pair_t.min(self.wall_t).min(self.cross_t)
+        self.pairs[0].t.min(self.wall_t).min(self.cross_t)
     }
 }
 
@@ -194,6 +251,9 @@ pub(crate) struct Engine<
     stall_limit: u64,
     window_start: f64,
     min_progress: f64,
+    /// Test-only: check the prediction invariant after every event.
+    #[cfg(test)]
+    pub checking: bool,
 }
 
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
@@ -220,6 +280,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             stall_limit: 1_000_000 + 1000 * n as u64,
             window_start: 0.0,
             min_progress: 0.0,
+            #[cfg(test)]
+            checking: false,
             m,
         };
         for i in 0..n as u32 {
@@ -227,7 +289,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             e.cells.insert(i, c);
         }
         for i in 0..n as u32 {
-            e.predict(i, false);
+            e.predict(i);
         }
         // Bucket width: about two pending events per bucket.
         let finite: Vec<f64> = e
@@ -242,15 +304,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             finite.iter().sum::<f64>() / finite.len() as f64
         };
         let width = (2.0 * mean / n.max(1) as f64).max(f64::MIN_POSITIVE * 1e10);
-        e.queue = Calendar::new(
-            if width.is_finite() && width > 0.0 {
-                width
-            } else {
-                1.0
-            },
-            n,
-            0.0,
-        );
+        let width = if width.is_finite() && width > 0.0 {
+            width
+        } else {
+            1.0
+        };
+        e.queue = Calendar::new(width, n, 0.0);
+        // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
+        e.min_progress = width * n as f64 / (1u64 << 30) as f64;
         for i in 0..n as u32 {
             e.schedule(i);
         }
@@ -273,9 +334,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             if e.version != self.version[e.sphere as usize] {
                 continue;
             }
-            if e.t > self.now {
+            self.now = self.now.max(e.t);
+            if self.now - self.window_start > self.min_progress {
                 self.same_time = 0;
-                self.now = e.t;
+                self.window_start = self.now;
             } else {
                 self.same_time += 1;
                 if self.same_time > self.stall_limit {
@@ -286,6 +348,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 }
             }
             self.step(e.sphere);
+            #[cfg(test)]
+            if self.checking {
+                self.check_invariant(e.sphere);
+            }
             tick += 1;
             if tick == 4096 {
                 tick = 0;
@@ -302,24 +368,45 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     #[inline]
     fn step(&mut self, i: u32) {
         let b = self.best[i as usize];
-        if b.cross_t <= b.pair_t && b.cross_t <= b.wall_t {
+        if b.cross_t <= b.pairs[0].t && b.cross_t <= b.wall_t {
             self.cross(i, b);
-        } else if b.pair_t <= b.wall_t {
-            let j = b.pair_j;
-            if self.m.counter[j as usize] != b.pair_counter {
-                self.stats.stale += 1;
-                self.predict(i, false);
-                self.schedule(i);
+        } else if b.pairs[0].t <= b.wall_t {
+            let c = b.pairs[0];
+            if self.m.counter[c.j as usize] == c.counter {
+                self.collide_pair(i, c.j);
             } else {
-                self.collide_pair(i, j);
+                // The partner changed: its own prediction covers this pair. The next kept
+                // candidate takes over, or, if none is left and some were not kept, predict.
+                self.stats.stale += 1;
+                if self.prune(i) {
+                    self.predict(i);
+                }
+                self.schedule(i);
             }
         } else {
             self.collide_wall(i, b.wall);
         }
     }
 
+    /// Drops sphere `i`'s stale pair candidates; `true` when none is left but some were not
+    /// kept (a full prediction is then due).
+    #[inline]
+    fn prune(&mut self, i: u32) -> bool {
+        let counter = &self.m.counter;
+        let b = &mut self.best[i as usize];
+        let valid = |c: &Candidate| c.t.is_finite() && counter[c.j as usize] == c.counter;
+        let (v0, v1) = (valid(&b.pairs[0]), valid(&b.pairs[1]));
+        b.pairs = match (v0, v1) {
+            (true, true) => b.pairs,
+            (true, false) => [b.pairs[0], Candidate::NONE],
+            (false, true) => [b.pairs[1], Candidate::NONE],
+            (false, false) => [Candidate::NONE; 2],
+        };
+        !b.pairs[0].t.is_finite() && !b.complete
+    }
+
     /// Sphere `i` crosses into the next cell: the new cell, the newly adjacent cells only, and
-    /// the stored predictions if their partner has not changed.
+    /// the kept candidates.
     fn cross(&mut self, i: u32, b: Best) {
         self.stats.crossings += 1;
         self.m.advance(i, self.now);
@@ -341,22 +428,13 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         }
         self.cells.remove(i);
         self.cells.insert(i, c);
-        let pair_valid =
-            b.pair_t.is_finite() && self.m.counter[b.pair_j as usize] == b.pair_counter;
-        if b.pair_t.is_finite() && !pair_valid {
-            self.stats.stale += 1;
-            self.predict(i, false);
+        if self.prune(i) {
+            self.predict(i);
         } else {
             // Only the layer of cells the sphere now reaches.
-            self.predict_pairs(i, Some((axis, step)));
+            let (fresh, fresh_complete) = self.predict_pairs(i, Some((axis, step)));
             let bi = &mut self.best[i as usize];
-            if !(bi.pair_t < b.pair_t || (bi.pair_t == b.pair_t && bi.pair_j < b.pair_j)) {
-                bi.pair_t = b.pair_t;
-                bi.pair_j = b.pair_j;
-                bi.pair_counter = b.pair_counter;
-            }
-            bi.wall_t = b.wall_t;
-            bi.wall = b.wall;
+            (bi.pairs, bi.complete) = merge((bi.pairs, bi.complete), (fresh, fresh_complete));
             self.predict_crossing(i);
         }
         self.schedule(i);
@@ -375,8 +453,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let d = bi.radius + bj.radius;
         let overlap = (d - dr.length()) / d;
         self.stats.max_overlap = self.stats.max_overlap.max(overlap);
-        let mut out = std::mem::take(&mut self.outcome);
-        out.changed.clear();
+        let mut out = std::mem::take(&mut self.outcome).cleared();
         self.responder.pair(&mut self.m, i, j, dr, now, &mut out);
         self.stats.pair_collisions += 1;
         self.account(&out);
@@ -394,7 +471,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             ));
         }
         for &s in &out.changed {
-            self.predict(s, false);
+            self.predict(s);
         }
         for &s in &out.changed {
             self.schedule(s);
@@ -408,8 +485,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let bi = self.m.bodies[i as usize];
         let (n, gap, material) = self.walls.normal_gap(wall, bi.r, bi.radius);
         self.stats.max_overlap = self.stats.max_overlap.max(-gap / bi.radius);
-        let mut out = std::mem::take(&mut self.outcome);
-        out.changed.clear();
+        let mut out = std::mem::take(&mut self.outcome).cleared();
         self.responder
             .wall(&mut self.m, i, n, material, now, &mut out);
         self.stats.wall_collisions += 1;
@@ -419,7 +495,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             log.push(EventRecord::new(now, i, wall, &out, geometry));
         }
         for &s in &out.changed {
-            self.predict(s, false);
+            self.predict(s);
         }
         for &s in &out.changed {
             self.schedule(s);
@@ -450,11 +526,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     }
 
     /// Predicts sphere `i`'s next pair contact, static contact and cell crossing from now.
-    fn predict(&mut self, i: u32, _partial: bool) {
+    fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.m.advance(i, self.now);
-        self.best[i as usize] = Best::default();
-        self.predict_pairs(i, None);
+        let (pairs, complete) = self.predict_pairs(i, None);
+        self.best[i as usize] = Best {
+            pairs,
+            complete,
+            ..Best::default()
+        };
         if WALLS {
             let b = self.m.bodies[i as usize];
             let (t, wall) = self
@@ -495,8 +575,9 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     }
 
     /// Gathers sphere `i`'s neighbours (all 27 cells, or the 9 newly adjacent after a crossing
-    /// along `layer`), screens them eight at a time and keeps the earliest in `best[i]`.
-    fn predict_pairs(&mut self, i: u32, layer: Option<(usize, i32)>) {
+    /// along `layer`), screens them eight at a time; returns the two earliest contacts and
+    /// whether there were no others.
+    fn predict_pairs(&mut self, i: u32, layer: Option<(usize, i32)>) -> ([Candidate; 2], bool) {
         let now = self.now;
         let bi = self.m.bodies[i as usize];
         let ci = self.cells.at[i as usize];
@@ -583,11 +664,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let count = self.batch.len();
         self.stats.kernels.sphere += count as u64;
         if count == 0 {
-            return;
+            return ([Candidate::NONE; 2], true);
         }
-        let earliest = self.batch.screen();
-        self.batch.candidates(earliest, &mut self.candidates);
-        let (mut best_t, mut best_j) = (f64::INFINITY, NONE);
+        self.batch.screen();
+        let mut complete = self.batch.candidates(&mut self.candidates);
+        let mut top = [Candidate::NONE; 2];
+        let mut found = 0;
         for chunk in self.candidates.chunks(4) {
             let mut r0 = [DVec3::ZERO; 4];
             let mut v = [DVec3::ZERO; 4];
@@ -595,25 +677,59 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             for (lane, &k) in chunk.iter().enumerate() {
                 let (j, image) = self.batch.who[k];
                 let bj = &self.m.bodies[j as usize];
-                let o = usize::from(image);
-                let image = DVec3::new(shift[0][o % 3], shift[1][o / 3 % 3], shift[2][o / 9]);
-                r0[lane] = bj.r + bj.v * (now - bj.t) + image - bi.r;
+                r0[lane] = bj.r + bj.v * (now - bj.t) + offsets[usize::from(image)];
                 v[lane] = bj.v - bi.v;
                 d[lane] = bi.radius + bj.radius;
             }
             let t = refine(r0, v, d);
             for (lane, &k) in chunk.iter().enumerate() {
                 let j = self.batch.who[k].0;
-                if t[lane] < best_t || (t[lane] == best_t && j < best_j) {
-                    (best_t, best_j) = (t[lane], j);
+                found += usize::from(t[lane].is_finite());
+                if !t[lane].is_finite() {
+                    continue;
+                }
+                let c = Candidate {
+                    t: now + t[lane],
+                    j,
+                    counter: self.m.counter[j as usize],
+                };
+                if c.before(&top[0]) {
+                    top = [c, top[0]];
+                } else if c.before(&top[1]) {
+                    top[1] = c;
                 }
             }
         }
-        if best_j != NONE {
-            let b = &mut self.best[i as usize];
-            b.pair_t = now + best_t;
-            b.pair_j = best_j;
-            b.pair_counter = self.m.counter[best_j as usize];
+        // A third contact settled in f64 is not kept either.
+        complete &= found <= 2;
+        (top, complete)
+    }
+
+    /// Test-only: no pair of spheres (any image) meets before the earlier of their two
+    /// pending events, checked by brute force in f64 after event of sphere `s`. A broken
+    /// prediction, stale-candidate rule or merge would let a collision pass unseen.
+    #[cfg(test)]
+    fn check_invariant(&self, s: u32) {
+        let n = self.m.bodies.len();
+        let len = self.cells.len;
+        for i in 0..n {
+            for j in i + 1..n {
+                let (bi, bj) = (&self.m.bodies[i], &self.m.bodies[j]);
+                let ri = bi.r + bi.v * (self.now - bi.t);
+                let rj = bj.r + bj.v * (self.now - bj.t);
+                let mut dr = rj - ri;
+                if PERIODIC {
+                    dr -= len * (dr / len).round();
+                }
+                let t = refine([dr; 4], [bj.v - bi.v; 4], [bi.radius + bj.radius; 4])[0];
+                let (ti, tj) = (self.best[i].time(), self.best[j].time());
+                assert!(
+                    self.now + t >= ti.min(tj) - 1e-9 || t.is_nan(),
+                    "after the event of sphere {s} at t = {}: spheres {i} and {j} meet at {} but their next events are at {ti} and {tj}",
+                    self.now,
+                    self.now + t
+                );
+            }
         }
     }
 

@@ -11,7 +11,7 @@ use crate::rng::Rng;
 
 /// Gaussian velocities for unit-free masses, zero total momentum, kinetic energy `3/2 N kT`.
 pub fn thermal_velocities(spheres: &mut [SphereState], kt: f64, seed: u64) {
-    let mut rng = Rng::new(seed ^ 0x5eed_0f_7e3f);
+    let mut rng = Rng::new(seed ^ 0x005e_ed0f_7e3f);
     let n = spheres.len();
     if n == 0 {
         return;

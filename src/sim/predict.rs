@@ -83,20 +83,18 @@ impl PairBatch {
         self.len += usize::from(keep);
     }
 
-    /// Screens every lane with the f32 kernel; returns the earliest screened time (`+∞` if no
-    /// lane meets its neighbour). Padding lanes are NaN and never hit.
+    /// Screens every lane with the f32 kernel. Padding lanes are NaN and never hit.
     #[inline]
-    pub fn screen(&mut self) -> f32 {
+    pub fn screen(&mut self) {
         let groups = self.len.div_ceil(8);
         // Padding of the last group: NaN never hits.
-        if self.len % 8 != 0 {
+        if !self.len.is_multiple_of(8) {
             let (g, from) = (self.len / 8, self.len % 8);
             for lane in from..8 {
                 self.d[g][lane] = f32::NAN;
             }
         }
         self.risk.clear();
-        let mut best = f32x8::splat(f32::INFINITY);
         let t_max = f32x8::splat(f32::INFINITY);
         for g in 0..groups {
             let load = |a: &Vec<[f32; 8]>| f32x8::from(a[g]);
@@ -114,24 +112,47 @@ impl PairBatch {
                 .take(self.len - 8 * g)
                 .any(|r| r.to_bits() != 0);
             self.risk.push(u8::from(risky));
-            best = best.min(t);
         }
-        best.to_array().into_iter().fold(f32::INFINITY, f32::min)
     }
 
-    /// The lanes worth answering in f64: those within a near tie of the earliest screened
-    /// time, and every lane of a group with a lane outside the f32 safe range.
-    pub fn candidates(&self, earliest: f32, out: &mut Vec<usize>) {
+    /// The lanes worth answering in f64: those within a near tie of the second earliest
+    /// screened time (so the two earliest are settled in f64), and every lane of a group with
+    /// a lane outside the f32 safe range. Returns whether every lane with a contact is among
+    /// them.
+    pub fn candidates(&self, out: &mut Vec<usize>) -> bool {
         out.clear();
-        let cut = earliest * NEAR_TIE;
-        for (g, t) in self.t.iter().enumerate().take(self.len.div_ceil(8)) {
-            for (lane, &tl) in t.iter().enumerate() {
-                let k = 8 * g + lane;
-                if k < self.len && (tl <= cut || self.risk[g] != 0) {
-                    out.push(k);
+        let groups = self.len.div_ceil(8);
+        let (mut first, mut second) = (f32::INFINITY, f32::INFINITY);
+        for t in &self.t[..groups] {
+            for &tl in t {
+                if tl < second {
+                    if tl < first {
+                        second = first;
+                        first = tl;
+                    } else {
+                        second = tl;
+                    }
                 }
             }
         }
+        // Padding lanes are NaN (never less than anything), culled lanes beyond `len` may hold
+        // old times: they are excluded below by index.
+        let cut = if second.is_finite() { second } else { first } * NEAR_TIE;
+        let mut left_out = false;
+        for (g, t) in self.t[..groups].iter().enumerate() {
+            for (lane, &tl) in t.iter().enumerate() {
+                let k = 8 * g + lane;
+                if k >= self.len {
+                    break;
+                }
+                if tl <= cut || self.risk[g] != 0 {
+                    out.push(k);
+                } else if tl.is_finite() {
+                    left_out = true;
+                }
+            }
+        }
+        !left_out
     }
 }
 

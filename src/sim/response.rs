@@ -66,6 +66,18 @@ pub(crate) struct Outcome {
     pub guarded: bool,
 }
 
+impl Outcome {
+    /// An empty outcome that keeps `changed`'s buffer.
+    #[inline]
+    pub fn cleared(mut self) -> Self {
+        self.changed.clear();
+        Self {
+            changed: self.changed,
+            ..Self::default()
+        }
+    }
+}
+
 /// A collision response, chosen once per engine.
 pub(crate) trait Responder: Send + Sync + 'static {
     /// Velocities never change; a pair in contact is not reported again until it separates.
