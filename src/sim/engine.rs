@@ -244,6 +244,8 @@ pub(crate) struct Engine<
     pub log: Option<Vec<EventRecord>>,
     batch: PairBatch,
     near: Vec<(u32, u8)>,
+    /// Per stencil image of the current prediction: its shift minus the sphere's centre.
+    offsets: [DVec3; 27],
     candidates: Vec<usize>,
     outcome: Outcome,
     /// The stall watchdog: events since time last advanced by at least `min_progress`.
@@ -274,6 +276,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             log: log.then(Vec::new),
             batch: PairBatch::default(),
             near: Vec::new(),
+            offsets: [DVec3::ZERO; 27],
             candidates: Vec::new(),
             outcome: Outcome::default(),
             same_time: 0,
@@ -614,7 +617,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         // Phase 1: the neighbours' indices, touching each one's cache line so that the misses
         // overlap (the loads are independent); phase 2 computes from lines already near.
         self.near.clear();
-        let mut offsets = [DVec3::ZERO; 27];
+        let offsets = &mut self.offsets;
         let mut touch = 0.0;
         let (nx, ny) = (n[0] as usize, n[1] as usize);
         for z in oz {
@@ -633,9 +636,13 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                     if !PERIODIC && cx < 0 {
                         continue;
                     }
+                    let members = self.cells.members(row + cx as usize);
+                    if members.is_empty() {
+                        continue;
+                    }
                     let image = x + 3 * y + 9 * z;
                     offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
-                    for &j in self.cells.members(row + cx as usize) {
+                    for &j in members {
                         touch += self.m.bodies[j as usize].t;
                         self.near.push((j, image as u8));
                     }
@@ -643,11 +650,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
         }
         std::hint::black_box(touch);
-        self.batch.clear();
-        self.batch.reserve(self.near.len());
+        self.batch.start(self.near.len());
         for &(j, image) in &self.near {
             let bj = &self.m.bodies[j as usize];
-            let r0 = bj.r + bj.v * (now - bj.t) + offsets[usize::from(image)];
+            let r0 = bj.r + bj.v * (now - bj.t) + self.offsets[usize::from(image)];
             let v = bj.v - bi.v;
             let d = bi.radius + bj.radius;
             // Only an approaching pair (r0 · v < 0) can meet: the others are written but not
@@ -661,12 +667,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             self.batch.push_if(keep, r0, v, d, j, image);
         }
+        self.batch.finish();
         let count = self.batch.len();
         self.stats.kernels.sphere += count as u64;
         if count == 0 {
             return ([Candidate::NONE; 2], true);
         }
-        self.batch.screen();
         let mut complete = self.batch.candidates(&mut self.candidates);
         let mut top = [Candidate::NONE; 2];
         let mut found = 0;
@@ -677,7 +683,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             for (lane, &k) in chunk.iter().enumerate() {
                 let (j, image) = self.batch.who[k];
                 let bj = &self.m.bodies[j as usize];
-                r0[lane] = bj.r + bj.v * (now - bj.t) + offsets[usize::from(image)];
+                r0[lane] = bj.r + bj.v * (now - bj.t) + self.offsets[usize::from(image)];
                 v[lane] = bj.v - bi.v;
                 d[lane] = bi.radius + bj.radius;
             }

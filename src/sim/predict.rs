@@ -13,28 +13,52 @@ use crate::kernels::quadratic::{Relative3, Solver, Stable};
 /// Lanes a screened time may exceed the earliest by and still be answered again in f64.
 const NEAR_TIE: f32 = 1.0 + 1.0 / 1024.0;
 
-/// Placeholder neighbour of unused scratch lanes.
-const NONE_WHO: u32 = u32::MAX;
+/// The lane group being filled: eight neighbours' relative motion, on the stack.
+#[derive(Debug, Clone, Copy)]
+struct Group {
+    r0: [[f32; 8]; 3],
+    v: [[f32; 8]; 3],
+    d: [f32; 8],
+}
 
-/// A prediction's neighbours, in lanes of eight.
+impl Default for Group {
+    fn default() -> Self {
+        Self {
+            r0: [[0.0; 8]; 3],
+            v: [[0.0; 8]; 3],
+            d: [f32::NAN; 8],
+        }
+    }
+}
+
+/// A prediction's neighbours, screened eight at a time as they are gathered.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PairBatch {
-    r0: [Vec<[f32; 8]>; 3],
-    v: [Vec<[f32; 8]>; 3],
-    d: Vec<[f32; 8]>,
-    /// Screened times per lane.
+    group: Group,
+    /// Screened times per lane, one entry per full (or final) group.
     t: Vec<[f32; 8]>,
-    risk: Vec<u8>,
-    /// Neighbour index and stencil image per lane (beyond `len`: scratch).
+    /// Whether each group had a lane outside the f32 safe range.
+    risk: Vec<bool>,
+    /// Neighbour index and stencil image per lane.
     pub who: Vec<(u32, u8)>,
     len: usize,
+    /// The two earliest screened times so far, and how many lanes hit at all.
+    first: f32,
+    second: f32,
+    hits: usize,
 }
 
 impl PairBatch {
-    /// Empties the batch (keeping its buffers).
+    /// Empties the batch (keeping its buffers) and makes room for `more` neighbours.
     #[inline]
-    pub fn clear(&mut self) {
+    pub fn start(&mut self, more: usize) {
         self.len = 0;
+        self.t.clear();
+        self.risk.clear();
+        (self.first, self.second, self.hits) = (f32::INFINITY, f32::INFINITY, 0);
+        if self.who.len() < more + 8 {
+            self.who.resize(more + 8, (u32::MAX, 0));
+        }
     }
 
     /// Number of neighbours gathered.
@@ -43,75 +67,65 @@ impl PairBatch {
         self.len
     }
 
-    /// Makes room for `more` neighbours.
-    #[inline]
-    pub fn reserve(&mut self, more: usize) {
-        let need = (self.len + more).div_ceil(8) + 1;
-        if self.d.len() < need {
-            self.grow(need);
-        }
-    }
-
-    #[cold]
-    fn grow(&mut self, need: usize) {
-        while self.d.len() < need {
-            let pad = [f32::NAN; 8];
-            for k in 0..3 {
-                self.r0[k].push(pad);
-                self.v[k].push(pad);
-            }
-            self.d.push(pad);
-            self.t.push(pad);
-        }
-        if self.who.len() < 8 * need {
-            self.who.resize(8 * need, (NONE_WHO, 0));
-        }
-    }
-
-    /// Writes one neighbour (after [`reserve`](Self::reserve)): relative position `r0` and
-    /// velocity `v` (its minus the predicted sphere's, f64 at the current time) and contact
-    /// distance `d`; it counts only if `keep`, so that culling needs no branch.
+    /// Writes one neighbour: relative position `r0` and velocity `v` (its minus the predicted
+    /// sphere's, f64 at the current time) and contact distance `d`; it counts only if `keep`,
+    /// so that culling needs no branch. A full group is screened at once.
     #[inline(always)]
     pub fn push_if(&mut self, keep: bool, r0: DVec3, v: DVec3, d: f64, who: u32, image: u8) {
-        let (g, lane) = (self.len / 8, self.len % 8);
+        let lane = self.len & 7;
         for k in 0..3 {
-            self.r0[k][g][lane] = r0[k] as f32;
-            self.v[k][g][lane] = v[k] as f32;
+            self.group.r0[k][lane] = r0[k] as f32;
+            self.group.v[k][lane] = v[k] as f32;
         }
-        self.d[g][lane] = d as f32;
+        self.group.d[lane] = d as f32;
         self.who[self.len] = (who, image);
         self.len += usize::from(keep);
+        if keep && lane == 7 {
+            self.screen_group(8);
+        }
     }
 
-    /// Screens every lane with the f32 kernel. Padding lanes are NaN and never hit.
+    /// Screens the group's first `lanes` lanes with the f32 `Stable` kernel (the others are
+    /// NaN and never hit).
     #[inline]
-    pub fn screen(&mut self) {
-        let groups = self.len.div_ceil(8);
-        // Padding of the last group: NaN never hits.
-        if !self.len.is_multiple_of(8) {
-            let (g, from) = (self.len / 8, self.len % 8);
-            for lane in from..8 {
-                self.d[g][lane] = f32::NAN;
+    fn screen_group(&mut self, lanes: usize) {
+        let g = &mut self.group;
+        for lane in lanes..8 {
+            g.d[lane] = f32::NAN;
+        }
+        let rel = Relative3 {
+            r0: g.r0.map(f32x8::from),
+            v: g.v.map(f32x8::from),
+            d: f32x8::from(g.d),
+        };
+        let (t, risk) = Stable::arrival(&rel, Side::Exterior, f32x8::splat(f32::INFINITY));
+        let t = t.to_array();
+        // Most groups have no hit at all: one mask test skips them.
+        if t.iter().any(|x| x.is_finite()) {
+            for &tl in &t {
+                self.hits += usize::from(tl.is_finite());
+                if tl < self.second {
+                    if tl < self.first {
+                        self.second = self.first;
+                        self.first = tl;
+                    } else {
+                        self.second = tl;
+                    }
+                }
             }
         }
-        self.risk.clear();
-        let t_max = f32x8::splat(f32::INFINITY);
-        for g in 0..groups {
-            let load = |a: &Vec<[f32; 8]>| f32x8::from(a[g]);
-            let rel = Relative3 {
-                r0: [load(&self.r0[0]), load(&self.r0[1]), load(&self.r0[2])],
-                v: [load(&self.v[0]), load(&self.v[1]), load(&self.v[2])],
-                d: load(&self.d),
-            };
-            let (t, risk) = Stable::arrival(&rel, Side::Exterior, t_max);
-            self.t[g] = t.to_array();
-            // Lanes outside f32's safe range (NaN padding counts) are decided in f64.
-            let risky = risk
-                .to_array()
-                .iter()
-                .take(self.len - 8 * g)
-                .any(|r| r.to_bits() != 0);
-            self.risk.push(u8::from(risky));
+        self.t.push(t);
+        // Lanes outside f32's safe range (NaN padding counts) are decided in f64.
+        let risky = risk.to_array().iter().take(lanes).any(|r| r.to_bits() != 0);
+        self.risk.push(risky);
+    }
+
+    /// Screens the last, partly filled group.
+    #[inline]
+    pub fn finish(&mut self) {
+        let lanes = self.len & 7;
+        if lanes != 0 {
+            self.screen_group(lanes);
         }
     }
 
@@ -121,31 +135,19 @@ impl PairBatch {
     /// them.
     pub fn candidates(&self, out: &mut Vec<usize>) -> bool {
         out.clear();
-        let groups = self.len.div_ceil(8);
-        let (mut first, mut second) = (f32::INFINITY, f32::INFINITY);
-        for t in &self.t[..groups] {
-            for &tl in t {
-                if tl < second {
-                    if tl < first {
-                        second = first;
-                        first = tl;
-                    } else {
-                        second = tl;
-                    }
-                }
-            }
+        if self.hits == 0 && !self.risk.iter().any(|&r| r) {
+            return true;
         }
-        // Padding lanes are NaN (never less than anything), culled lanes beyond `len` may hold
-        // old times: they are excluded below by index.
+        let (first, second) = (self.first, self.second);
         let cut = if second.is_finite() { second } else { first } * NEAR_TIE;
         let mut left_out = false;
-        for (g, t) in self.t[..groups].iter().enumerate() {
+        for (g, t) in self.t.iter().enumerate() {
             for (lane, &tl) in t.iter().enumerate() {
                 let k = 8 * g + lane;
                 if k >= self.len {
                     break;
                 }
-                if tl <= cut || self.risk[g] != 0 {
+                if tl <= cut || self.risk[g] {
                     out.push(k);
                 } else if tl.is_finite() {
                     left_out = true;
