@@ -5,3 +5,4 @@
 pub mod narrow;
 pub mod peer;
 pub mod scenes;
+pub mod sim;

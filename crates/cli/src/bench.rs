@@ -25,6 +25,14 @@ pub struct Args {
     /// Print the results as JSON (one object) instead of tables.
     #[arg(long)]
     json: bool,
+    /// Run only the simulation section: collisions per second of the hard-sphere gas at
+    /// N = 4000, φ = 0.1 … 0.4 and larger N, the cost of unused effects, bytes per sphere.
+    #[arg(long)]
+    sim: bool,
+    /// A checkout of Smallenburg's EDMD (github.com/FSmallenburg/EDMD): its "Single" program
+    /// is built with gcc -Ofast -march=native and run beside ours, alternately, in this run.
+    #[arg(long, value_name = "DIR", env = "EDMD_DIR")]
+    edmd: Option<std::path::PathBuf>,
 }
 
 /// One measured line: what, how big, ns per item, and the peer's ns per item if it has one.
@@ -83,10 +91,15 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     if args.json {
         progress.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    pool.install(|| {
-        narrow_lines(&mut lines, rounds, min, &progress);
-        broad_lines(&mut lines, args.quick, rounds, min, &progress);
-    });
+    if args.sim {
+        progress.set_length(if args.quick { 6 } else { 10 });
+        sim_lines(&mut lines, args, &progress);
+    } else {
+        pool.install(|| {
+            narrow_lines(&mut lines, rounds, min, &progress);
+            broad_lines(&mut lines, args.quick, rounds, min, &progress);
+        });
+    }
     progress.finish_and_clear();
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -271,6 +284,112 @@ fn broad_lines(
             note: "parry Bvh incremental + cast_shapes".into(),
         });
         progress.inc(2);
+    }
+}
+
+/// The event-driven engine on the peer's gas, ours and the peer alternately (best of the
+/// repetitions each), in ns per collision; the cost of declared but unused effects; and bytes
+/// per sphere at N = 10⁶.
+fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &indicatif::ProgressBar) {
+    use spheresweep_bench::sim;
+    const GROUP: &str = "simulation: ns per collision, hard-sphere gas from FCC (peer: Smallenburg EDMD \"Single\", gcc -Ofast -march=native)";
+    let (reps, small, large) = if args.quick {
+        (1, 500_000, 500_000)
+    } else {
+        (3, 2_000_000, 3_000_000)
+    };
+    let mut cases: Vec<(usize, f64, u64)> = [0.1, 0.2, 0.25, 0.3, 0.4]
+        .iter()
+        .map(|&phi| (4000, phi, small))
+        .collect();
+    cases.push((32_000, 0.25, large));
+    if !args.quick {
+        cases.push((108_000, 0.25, large));
+    }
+    let mut peer_note = String::new();
+    for (n, phi, collisions) in cases {
+        progress.set_message(format!("gas N = {n}, φ = {phi}"));
+        let (mut ours, mut peer) = (f64::INFINITY, None::<f64>);
+        let mut stats = None;
+        for _ in 0..reps {
+            let r = sim::measure(sim::gas(n, phi, 1), collisions);
+            ours = ours.min(1e9 / r.per_second());
+            stats = Some(r.stats);
+            if let Some(dir) = &args.edmd {
+                match sim::peer_rate(dir, n, phi, collisions) {
+                    Ok(rate) => peer = Some(peer.map_or(1e9 / rate, |p: f64| p.min(1e9 / rate))),
+                    Err(e) => peer_note = format!("peer not run: {e}"),
+                }
+            }
+        }
+        let s = stats.expect("one repetition");
+        let per = |x: u64| x as f64 / s.pair_collisions as f64;
+        lines.push(Line {
+            group: GROUP,
+            name: format!("gas N = {n}, φ = {phi}"),
+            n,
+            ns: ours,
+            peer_ns: peer,
+            note: format!(
+                "{:.0} k/s; per collision: {:.2} predictions, {:.2} crossings, {:.1} lanes",
+                1e6 / ours,
+                per(s.predictions),
+                per(s.crossings),
+                per(s.kernels.sphere)
+            ),
+        });
+        progress.inc(1);
+    }
+    if args.edmd.is_none() {
+        peer_note =
+            "peer not run: give --edmd DIR (a checkout of github.com/FSmallenburg/EDMD)".into();
+    }
+    // The same spheres with effects declared that they never use: the same engine, the same cost.
+    progress.set_message("unused effects");
+    let (mut plain, mut declared) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..reps.max(2) {
+        plain = plain.min(1e9 / sim::measure(sim::gas(4000, 0.25, 1), small).per_second());
+        declared = declared.min(
+            1e9 / sim::measure(sim::gas_with_unused_effects(4000, 0.25, 1), small).per_second(),
+        );
+    }
+    let engine = spheresweep::sim::Simulation::new(sim::gas_with_unused_effects(32, 0.25, 1))
+        .map(|s| s.engine_name())
+        .unwrap_or_default();
+    lines.push(Line {
+        group: "simulation: effects a scene declares but does not use (ns per collision; \"peer\" = the plain gas)",
+        name: "gas N = 4000, φ = 0.25, sticky + inelastic declared".into(),
+        n: 4000,
+        ns: declared,
+        peer_ns: Some(plain),
+        note: format!("engine assembled: {engine}"),
+    });
+    progress.inc(1);
+    if !args.quick {
+        progress.set_message("N = 10⁶ memory");
+        let before = sim::resident_bytes();
+        let world = sim::gas(1_000_000, 0.25, 1);
+        let r = sim::measure(world, 2_000_000);
+        let after = sim::resident_bytes();
+        let note = match (before, after) {
+            (Some(b), Some(a)) => format!(
+                "{:.0} bytes per sphere resident (world, engine and generator)",
+                (a.saturating_sub(b)) as f64 / 1e6
+            ),
+            _ => "resident memory unknown on this system".into(),
+        };
+        lines.push(Line {
+            group: GROUP,
+            name: "gas N = 1000000, φ = 0.25".into(),
+            n: 1_000_000,
+            ns: 1e9 / r.per_second(),
+            peer_ns: None,
+            note,
+        });
+        progress.inc(1);
+    }
+    if !peer_note.is_empty() {
+        eprintln!("{peer_note}");
     }
 }
 
