@@ -28,6 +28,8 @@ pub(crate) struct Cells {
     slot_of: Vec<u32>,
     /// Each sphere's cell coordinates.
     pub at: Vec<[i32; 3]>,
+    /// Index difference to each of the 27 neighbours `x + 3y + 9z` of an interior cell.
+    pub delta: [isize; 27],
 }
 
 impl Cells {
@@ -54,6 +56,11 @@ impl Cells {
         );
         let cells = (n[0] as usize) * (n[1] as usize) * (n[2] as usize);
         let cap = 8;
+        let (sx, sy) = (n[0] as isize, n[0] as isize * n[1] as isize);
+        let delta = std::array::from_fn(|k| {
+            let k = k as isize;
+            (k % 3 - 1) + (k / 3 % 3 - 1) * sx + (k / 9 - 1) * sy
+        });
         Self {
             n,
             lo,
@@ -64,6 +71,7 @@ impl Cells {
             count: vec![0; cells],
             slot_of: vec![NONE; spheres],
             at: vec![[0; 3]; spheres],
+            delta,
         }
     }
 
@@ -112,6 +120,12 @@ impl Cells {
         self.slot_of[moved as usize] = k as u32;
         self.slots[base + last] = NONE;
         self.count[cell] -= 1;
+    }
+
+    /// Empties every cell.
+    pub fn clear(&mut self) {
+        self.slots.fill(NONE);
+        self.count.fill(0);
     }
 
     /// Doubles the slots per cell.

@@ -84,6 +84,40 @@ fn merge(a: ([Candidate; 2], bool), b: ([Candidate; 2], bool)) -> ([Candidate; 2
     (out, complete)
 }
 
+/// Every stencil image `x + 3y + 9z` (offsets `x − 1`, `y − 1`, `z − 1`).
+const ALL_IMAGES: [u8; 27] = {
+    let mut a = [0u8; 27];
+    let mut k = 0;
+    while k < 27 {
+        a[k] = k as u8;
+        k += 1;
+    }
+    a
+};
+
+/// The nine images of the layer a crossing reaches, per axis and direction (`2·axis + up`).
+const LAYER_IMAGES: [[u8; 9]; 6] = {
+    let mut t = [[0u8; 9]; 6];
+    let mut axis = 0;
+    while axis < 3 {
+        let mut up = 0;
+        while up < 2 {
+            let (mut k, mut m) = (0usize, 0usize);
+            while k < 27 {
+                let o = [k % 3, k / 3 % 3, k / 9];
+                if o[axis] == 2 * up {
+                    t[2 * axis + up][m] = k as u8;
+                    m += 1;
+                }
+                k += 1;
+            }
+            up += 1;
+        }
+        axis += 1;
+    }
+    t
+};
+
 /// What a sphere's pending event is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Best {
@@ -256,6 +290,12 @@ pub(crate) struct Engine<
     /// Test-only: check the prediction invariant after every event.
     #[cfg(test)]
     pub checking: bool,
+    /// Each internal index's public sphere index: spheres are renumbered in cell order every
+    /// `reorder_every` events, so that neighbours sit close in memory.
+    pub id_of: Vec<u32>,
+    pub reorder_every: u64,
+    since_reorder: u64,
+    width: f64,
 }
 
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
@@ -285,6 +325,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             min_progress: 0.0,
             #[cfg(test)]
             checking: false,
+            id_of: (0..n as u32).collect(),
+            reorder_every: 32 * n as u64 + 1024,
+            since_reorder: 0,
+            width: 1.0,
             m,
         };
         for i in 0..n as u32 {
@@ -313,11 +357,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             1.0
         };
         e.queue = Calendar::new(width, n, 0.0);
+        e.width = width;
         // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
         e.min_progress = width * n as f64 / (1u64 << 30) as f64;
-        for i in 0..n as u32 {
-            e.schedule(i);
-        }
+        // Start in cell order (this also fills the calendar).
+        e.reorder();
         e
     }
 
@@ -354,6 +398,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             #[cfg(test)]
             if self.checking {
                 self.check_invariant(e.sphere);
+            }
+            self.since_reorder += 1;
+            if self.since_reorder >= self.reorder_every {
+                self.since_reorder = 0;
+                self.reorder();
             }
             tick += 1;
             if tick == 4096 {
@@ -465,10 +514,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 let n = dr.normalize();
                 (bi.r + n * bi.radius, -n)
             });
+            let (a, b) = (self.id_of[i as usize], self.id_of[j as usize]);
             log.push(EventRecord::new(
                 now,
-                i,
-                Body::new(ShapeKind::Sphere, j),
+                a,
+                Body::new(ShapeKind::Sphere, b),
                 &out,
                 geometry,
             ));
@@ -495,7 +545,13 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.account(&out);
         if let Some(log) = &mut self.log {
             let geometry = GEOMETRY.then(|| (bi.r - n * bi.radius, n));
-            log.push(EventRecord::new(now, i, wall, &out, geometry));
+            log.push(EventRecord::new(
+                now,
+                self.id_of[i as usize],
+                wall,
+                &out,
+                geometry,
+            ));
         }
         for &s in &out.changed {
             self.predict(s);
@@ -620,31 +676,53 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let offsets = &mut self.offsets;
         let mut touch = 0.0;
         let (nx, ny) = (n[0] as usize, n[1] as usize);
-        for z in oz {
-            let cz = coord[2][z];
-            if !PERIODIC && cz < 0 {
-                continue;
-            }
-            for y in oy.clone() {
-                let cy = coord[1][y];
-                if !PERIODIC && cy < 0 {
+        let interior = (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2);
+        if interior {
+            // No wrap and no edge: the stencil is a fixed table of index deltas.
+            let base = self.cells.index(ci);
+            let images: &[u8] = match layer {
+                None => &ALL_IMAGES,
+                Some((axis, step)) => &LAYER_IMAGES[2 * axis + usize::from(step > 0)],
+            };
+            for &image in images {
+                let cell = base.wrapping_add_signed(self.cells.delta[usize::from(image)]);
+                let members = self.cells.members(cell);
+                if members.is_empty() {
                     continue;
                 }
-                let row = (cz as usize * ny + cy as usize) * nx;
-                for x in ox.clone() {
-                    let cx = coord[0][x];
-                    if !PERIODIC && cx < 0 {
+                offsets[usize::from(image)] = -bi.r;
+                for &j in members {
+                    touch += self.m.bodies[j as usize].t;
+                    self.near.push((j, image));
+                }
+            }
+        } else {
+            for z in oz {
+                let cz = coord[2][z];
+                if !PERIODIC && cz < 0 {
+                    continue;
+                }
+                for y in oy.clone() {
+                    let cy = coord[1][y];
+                    if !PERIODIC && cy < 0 {
                         continue;
                     }
-                    let members = self.cells.members(row + cx as usize);
-                    if members.is_empty() {
-                        continue;
-                    }
-                    let image = x + 3 * y + 9 * z;
-                    offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
-                    for &j in members {
-                        touch += self.m.bodies[j as usize].t;
-                        self.near.push((j, image as u8));
+                    let row = (cz as usize * ny + cy as usize) * nx;
+                    for x in ox.clone() {
+                        let cx = coord[0][x];
+                        if !PERIODIC && cx < 0 {
+                            continue;
+                        }
+                        let members = self.cells.members(row + cx as usize);
+                        if members.is_empty() {
+                            continue;
+                        }
+                        let image = x + 3 * y + 9 * z;
+                        offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
+                        for &j in members {
+                            touch += self.m.bodies[j as usize].t;
+                            self.near.push((j, image as u8));
+                        }
                     }
                 }
             }
@@ -739,23 +817,62 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         }
     }
 
-    /// Every sphere's centre and velocity at the current time (periodic positions wrapped).
+    /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
+    /// public order.
     pub fn current(&self) -> Vec<Dyn> {
-        self.m
-            .bodies
-            .iter()
-            .map(|b| {
-                let mut r = b.r + b.v * (self.now - b.t);
-                if PERIODIC {
-                    let len = self.cells.len;
-                    r -= len * (r / len).floor();
+        let mut out = vec![Dyn::default(); self.m.bodies.len()];
+        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+            let mut r = b.r + b.v * (self.now - b.t);
+            if PERIODIC {
+                let len = self.cells.len;
+                r -= len * (r / len).floor();
+            }
+            out[id as usize] = Dyn {
+                r,
+                t: self.now,
+                ..*b
+            };
+        }
+        out
+    }
+
+    /// Renumbers the spheres in cell order (then by index, so the result is deterministic):
+    /// every per-sphere array, the candidates' partners, the response's state and the cells
+    /// follow, and the calendar is rebuilt from each sphere's pending event.
+    fn reorder(&mut self) {
+        let n = self.m.bodies.len();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&i| (self.cells.index(self.cells.at[i as usize]), i));
+        let mut new_of_old = vec![0u32; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_of_old[old as usize] = new as u32;
+        }
+        fn take<T: Copy>(v: &[T], order: &[u32]) -> Vec<T> {
+            order.iter().map(|&o| v[o as usize]).collect()
+        }
+        self.m.bodies = take(&self.m.bodies, &order);
+        self.m.mass = take(&self.m.mass, &order);
+        self.m.material = take(&self.m.material, &order);
+        self.m.counter = take(&self.m.counter, &order);
+        self.id_of = take(&self.id_of, &order);
+        let at = take(&self.cells.at, &order);
+        self.best = take(&self.best, &order);
+        for b in &mut self.best {
+            for c in &mut b.pairs {
+                if c.j != NONE {
+                    c.j = new_of_old[c.j as usize];
                 }
-                Dyn {
-                    r,
-                    t: self.now,
-                    ..*b
-                }
-            })
-            .collect()
+            }
+        }
+        self.cells.clear();
+        for (i, &c) in at.iter().enumerate() {
+            self.cells.insert(i as u32, c);
+        }
+        self.responder.permute(&new_of_old);
+        self.version = vec![0; n];
+        self.queue = Calendar::new(self.width, n, self.now);
+        for i in 0..n as u32 {
+            self.schedule(i);
+        }
     }
 }

@@ -183,11 +183,21 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
         self.log.as_mut().map(std::mem::take).unwrap_or_default()
     }
     fn clusters(&self) -> Vec<Vec<u32>> {
-        self.responder.clusters()
+        let mut c = self.responder.clusters();
+        for members in &mut c {
+            for s in members.iter_mut() {
+                *s = self.id_of[*s as usize];
+            }
+            members.sort_unstable();
+        }
+        c.sort_unstable();
+        c
     }
     #[cfg(test)]
     fn set_checking(&mut self) {
         self.checking = true;
+        // Renumber often, so that the check covers it.
+        self.reorder_every = 97;
     }
     fn name(&self) -> String {
         format!(
@@ -203,7 +213,9 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
 /// A running simulation.
 pub struct Simulation {
     engine: Box<dyn Run>,
+    /// Each sphere's material and mass, in public order.
     materials: Vec<u16>,
+    masses: Vec<f64>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -388,9 +400,18 @@ impl Simulation {
         } else if all_elastic {
             build!(Elastic)
         } else {
-            build!(Materials::new(table, count, world.effects.tc, &masses))
+            build!(Materials::new(
+                table,
+                count,
+                world.effects.tc,
+                &masses.clone()
+            ))
         };
-        Ok(Self { engine, materials })
+        Ok(Self {
+            engine,
+            materials,
+            masses,
+        })
     }
 
     /// Processes every event up to time `t` (inclusive) and moves the clock to `t`.
@@ -430,7 +451,6 @@ impl Simulation {
 
     /// Every sphere at the current time (periodic centres wrapped into the box).
     pub fn spheres(&self) -> Vec<SphereState> {
-        let m = self.engine.motion();
         self.engine
             .current()
             .into_iter()
@@ -439,7 +459,7 @@ impl Simulation {
                 centre: b.r,
                 velocity: b.v,
                 radius: b.radius,
-                mass: m.mass[i],
+                mass: self.masses[i],
                 material: self.materials[i],
             })
             .collect()

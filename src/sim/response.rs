@@ -89,6 +89,8 @@ pub(crate) trait Responder: Send + Sync + 'static {
     /// Sphere `i` meets a static shape of material `wall` at `now`; `n` is the unit normal from
     /// the shape towards the sphere's centre.
     fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome);
+    /// The spheres were renumbered: sphere `old` is now `new_of_old[old]`.
+    fn permute(&mut self, _new_of_old: &[u32]) {}
     /// Report-only scenes: whether `j` is the partner `i` is already touching.
     #[inline(always)]
     fn touching(&self, _i: u32, _j: u32) -> bool {
@@ -119,9 +121,29 @@ pub(crate) struct ReportOnly {
     pub partner: Vec<u32>,
 }
 
+/// `v` reordered so that entry `old` lands at `new_of_old[old]`.
+fn permuted<T: Copy>(v: &[T], new_of_old: &[u32]) -> Vec<T> {
+    let mut out = v.to_vec();
+    for (old, &new) in new_of_old.iter().enumerate() {
+        out[new as usize] = v[old];
+    }
+    out
+}
+
+/// A sphere index through the renumbering (`NONE` stays).
+fn renumbered(i: u32, new_of_old: &[u32]) -> u32 {
+    new_of_old.get(i as usize).copied().unwrap_or(i)
+}
+
 impl Responder for ReportOnly {
     const REPORT_ONLY: bool = true;
     const NAME: &'static str = "report only";
+    fn permute(&mut self, new_of_old: &[u32]) {
+        self.partner = permuted(&self.partner, new_of_old)
+            .into_iter()
+            .map(|p| renumbered(p, new_of_old))
+            .collect();
+    }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
         self.partner[i as usize] = j;
         self.partner[j as usize] = i;
@@ -304,6 +326,21 @@ impl Materials {
 impl Responder for Materials {
     const REPORT_ONLY: bool = false;
     const NAME: &'static str = "materials";
+    fn permute(&mut self, new_of_old: &[u32]) {
+        // Cluster ids are sphere indices: both the arrays and the ids they hold move.
+        self.last = permuted(&self.last, new_of_old);
+        self.cmass = permuted(&self.cmass, new_of_old);
+        self.cluster = permuted(&self.cluster, new_of_old)
+            .into_iter()
+            .map(|c| renumbered(c, new_of_old))
+            .collect();
+        let mut members = vec![Vec::new(); self.members.len()];
+        for (old, m) in self.members.iter_mut().enumerate() {
+            members[new_of_old[old] as usize] =
+                m.iter().map(|&s| renumbered(s, new_of_old)).collect();
+        }
+        self.members = members;
+    }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome) {
         let (ci, cj) = (self.cluster[i as usize], self.cluster[j as usize]);
         let (vi, vj) = (m.bodies[i as usize].v, m.bodies[j as usize].v);
