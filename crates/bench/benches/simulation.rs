@@ -1,0 +1,59 @@
+//! The event-driven engine on the hard-sphere gas of the peer's figures (FCC start, diameter,
+//! mass and kT 1, no thermostat): time per collision at N = 4000, φ = 0.1 … 0.4 and at larger
+//! N; and the same spheres with effects declared that they never use (the same engine must run
+//! at the same cost). The peer (Smallenburg's EDMD, a C program) runs beside ours in
+//! `spheresweep bench --sim --edmd DIR`, which reports the ratios; results: docs/benchmarks.md.
+
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use spheresweep::sim::{Simulation, World};
+use spheresweep_bench::sim;
+
+/// Time for `collisions` collisions (each sample a fresh gas, its set-up not timed), run as
+/// `iters` back-to-back stretches of the same simulation.
+fn time_collisions(world: &World, n: usize, phi: f64, collisions: u64, iters: u64) -> Duration {
+    let mut s = Simulation::new(world.clone()).expect("valid gas");
+    let dt = collisions as f64 / sim::enskog_collision_rate(n, phi);
+    let start = Instant::now();
+    for k in 1..=iters {
+        s.advance_to(dt * k as f64).expect("no stall");
+    }
+    start.elapsed()
+}
+
+fn gas(c: &mut Criterion) {
+    let collisions = 20_000;
+    let mut g = c.benchmark_group("sim_gas_per_20k_collisions");
+    g.throughput(Throughput::Elements(collisions));
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_millis(500));
+    g.measurement_time(Duration::from_secs(3));
+    for (n, phi) in [(4000, 0.1), (4000, 0.25), (4000, 0.4), (32_000, 0.25), (108_000, 0.25)] {
+        let world = sim::gas(n, phi, 1);
+        g.bench_function(format!("n{n}_phi{phi}"), |b| {
+            b.iter_custom(|iters| time_collisions(&world, n, phi, collisions, iters))
+        });
+    }
+    g.finish();
+}
+
+fn unused_effects(c: &mut Criterion) {
+    let collisions = 20_000;
+    let mut g = c.benchmark_group("sim_unused_effects_n4000_phi0.25");
+    g.throughput(Throughput::Elements(collisions));
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_millis(500));
+    g.measurement_time(Duration::from_secs(3));
+    let plain = sim::gas(4000, 0.25, 1);
+    let declared = sim::gas_with_unused_effects(4000, 0.25, 1);
+    for (name, world) in [("plain", &plain), ("sticky_inelastic_declared", &declared)] {
+        g.bench_function(name, |b| {
+            b.iter_custom(|iters| time_collisions(world, 4000, 0.25, collisions, iters))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, gas, unused_effects);
+criterion_main!(benches);
