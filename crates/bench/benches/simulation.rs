@@ -10,14 +10,18 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use spheresweep::sim::{Simulation, World};
 use spheresweep_bench::sim;
 
-/// Time for `collisions` collisions (each sample a fresh gas, its set-up not timed), run as
-/// `iters` back-to-back stretches of the same simulation.
+/// Time for `collisions` collisions, run as `iters` back-to-back stretches of one simulation
+/// (each sample a fresh gas; its set-up and its first two collisions per sphere, which leave the
+/// lattice, not timed).
 fn time_collisions(world: &World, n: usize, phi: f64, collisions: u64, iters: u64) -> Duration {
     let mut s = Simulation::new(world.clone()).expect("valid gas");
-    let dt = collisions as f64 / sim::enskog_collision_rate(n, phi);
+    let rate = sim::enskog_collision_rate(n, phi);
+    let t0 = 2.0 * n as f64 / rate;
+    s.advance_to(t0).expect("no stall");
+    let dt = collisions as f64 / rate;
     let start = Instant::now();
     for k in 1..=iters {
-        s.advance_to(dt * k as f64).expect("no stall");
+        s.advance_to(t0 + dt * k as f64).expect("no stall");
     }
     start.elapsed()
 }
