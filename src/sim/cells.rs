@@ -122,6 +122,14 @@ impl Cells {
         self.count[cell] -= 1;
     }
 
+    /// Bytes the grid holds.
+    pub fn bytes(&self) -> usize {
+        self.slots.capacity() * 4
+            + self.count.capacity() * 4
+            + self.slot_of.capacity() * 4
+            + self.at.capacity() * 12
+    }
+
     /// Empties every cell.
     pub fn clear(&mut self) {
         self.slots.fill(NONE);

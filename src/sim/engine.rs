@@ -836,6 +836,25 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         out
     }
 
+    /// Bytes the engine holds: per-sphere arrays, grid, calendar, scratch (not the response's
+    /// own state, which is a few bytes per sphere when present).
+    pub fn bytes(&self) -> usize {
+        fn b<T>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        b(&self.m.bodies)
+            + b(&self.m.mass)
+            + b(&self.m.material)
+            + b(&self.m.counter)
+            + b(&self.best)
+            + b(&self.version)
+            + b(&self.id_of)
+            + self.cells.bytes()
+            + self.queue.bytes()
+            + b(&self.near)
+            + b(&self.candidates)
+    }
+
     /// Renumbers the spheres in cell order (then by index, so the result is deterministic):
     /// every per-sphere array, the candidates' partners, the response's state and the cells
     /// follow, and the calendar is rebuilt from each sphere's pending event.

@@ -138,6 +138,7 @@ trait Run: Send {
     fn take_log(&mut self) -> Vec<EventRecord>;
     fn clusters(&self) -> Vec<Vec<u32>>;
     fn name(&self) -> String;
+    fn bytes(&self) -> usize;
     /// Test-only: check the prediction invariant after every event.
     #[cfg(test)]
     fn set_checking(&mut self);
@@ -192,6 +193,13 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
         }
         c.sort_unstable();
         c
+    }
+    fn bytes(&self) -> usize {
+        Engine::bytes(self)
+            + self
+                .log
+                .as_ref()
+                .map_or(0, |l| l.capacity() * std::mem::size_of::<EventRecord>())
     }
     #[cfg(test)]
     fn set_checking(&mut self) {
@@ -447,6 +455,21 @@ impl Simulation {
     /// Which engine the world was assembled into (response, boundary, shapes, geometry).
     pub fn engine_name(&self) -> String {
         self.engine.name()
+    }
+
+    /// Bytes the simulation holds (engine arrays, grid, calendar, unread event records, and
+    /// the per-sphere mass and material it reports back), for sizing runs.
+    ///
+    /// ```
+    /// use spheresweep::sim::{Simulation, World, generate};
+    /// let mut world = World::default();
+    /// generate::periodic_gas(&mut world, 4000, 0.25, 0.5, 1.0, 1)?;
+    /// let sim = Simulation::new(world)?;
+    /// assert!(sim.memory_bytes() / 4000 < 512);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn memory_bytes(&self) -> usize {
+        self.engine.bytes() + self.masses.capacity() * 8 + self.materials.capacity() * 2
     }
 
     /// Every sphere at the current time (periodic centres wrapped into the box).

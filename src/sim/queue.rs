@@ -81,6 +81,14 @@ impl Calendar {
         (t * self.inv_width) as u64
     }
 
+    /// Bytes the calendar holds (buckets, heap, overflow).
+    pub fn bytes(&self) -> usize {
+        let e = std::mem::size_of::<Entry>();
+        self.buckets.capacity() * std::mem::size_of::<Vec<Entry>>()
+            + self.buckets.iter().map(Vec::capacity).sum::<usize>() * e
+            + (self.heap.capacity() + self.far.capacity()) * e
+    }
+
     /// Schedules an entry (its time must not precede the last popped one).
     #[inline]
     pub fn push(&mut self, e: Entry) {

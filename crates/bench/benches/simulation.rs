@@ -33,7 +33,13 @@ fn gas(c: &mut Criterion) {
     g.sample_size(10);
     g.warm_up_time(Duration::from_millis(500));
     g.measurement_time(Duration::from_secs(3));
-    for (n, phi) in [(4000, 0.1), (4000, 0.25), (4000, 0.4), (32_000, 0.25), (108_000, 0.25)] {
+    for (n, phi) in [
+        (4000, 0.1),
+        (4000, 0.25),
+        (4000, 0.4),
+        (32_000, 0.25),
+        (108_000, 0.25),
+    ] {
         let world = sim::gas(n, phi, 1);
         g.bench_function(format!("n{n}_phi{phi}"), |b| {
             b.iter_custom(|iters| time_collisions(&world, n, phi, collisions, iters))

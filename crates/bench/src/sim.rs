@@ -59,6 +59,8 @@ pub struct Rate {
     pub seconds: f64,
     /// The engine's counters at the end.
     pub stats: Stats,
+    /// Bytes the simulation held at the end (`Simulation::memory_bytes`).
+    pub bytes: usize,
 }
 
 impl Rate {
@@ -93,6 +95,7 @@ pub fn measure(world: World, collisions: u64) -> Rate {
         collisions: stats.pair_collisions,
         seconds,
         stats,
+        bytes: sim.memory_bytes(),
     }
 }
 
@@ -127,9 +130,10 @@ pub fn peer_rate(edmd_dir: &Path, n: usize, phi: f64, collisions: u64) -> Result
         .ok_or_else(|| format!("unexpected peer output: {text:?}"))
 }
 
-/// Resident memory of this process in bytes (Linux `/proc/self/statm`), if known.
-pub fn resident_bytes() -> Option<u64> {
-    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
-    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
-    Some(pages * 4096)
+/// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }

@@ -367,24 +367,20 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &indicatif::ProgressB
     progress.inc(1);
     if !args.quick {
         progress.set_message("N = 10⁶ memory");
-        let before = sim::resident_bytes();
-        let world = sim::gas(1_000_000, 0.25, 1);
-        let r = sim::measure(world, 2_000_000);
-        let after = sim::resident_bytes();
-        let note = match (before, after) {
-            (Some(b), Some(a)) => format!(
-                "{:.0} bytes per sphere resident (world, engine and generator)",
-                (a.saturating_sub(b)) as f64 / 1e6
-            ),
-            _ => "resident memory unknown on this system".into(),
-        };
+        let r = sim::measure(sim::gas(1_000_000, 0.25, 1), 2_000_000);
+        let peak = sim::peak_resident_bytes().map_or(String::new(), |p| {
+            format!("; this process's peak resident {:.0} MB", p as f64 / 1e6)
+        });
         lines.push(Line {
             group: GROUP,
             name: "gas N = 1000000, φ = 0.25".into(),
             n: 1_000_000,
             ns: 1e9 / r.per_second(),
             peer_ns: None,
-            note,
+            note: format!(
+                "{:.0} bytes per sphere held by the simulation{peak}",
+                r.bytes as f64 / 1e6
+            ),
         });
         progress.inc(1);
     }
