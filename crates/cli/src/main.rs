@@ -5,6 +5,8 @@ mod bench;
 mod demo;
 mod output;
 mod picture;
+mod query;
+mod render;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -31,6 +33,11 @@ enum Command {
     /// Simulate a scene file (TOML or JSON; docs/scene-format.md) to its end time: a progress
     /// bar, then a summary; trajectory.xyz, events.csv and summary.json in the output directory.
     Run(run::Args),
+    /// Time of impact for files of sphere pairs or of spheres against shapes (CSV, NumPy .npy,
+    /// Parquet), written to the same formats.
+    Query(query::Args),
+    /// Pictures of a scene file or of recorded snapshots (extended XYZ).
+    Render(render::Args),
 }
 
 /// Parses the command line and runs it; errors go to stderr with a non-zero exit code.
@@ -41,6 +48,8 @@ fn main() -> ExitCode {
         Command::Accuracy(args) => accuracy::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Run(args) => run::run(&args),
+        Command::Query(args) => query::run(&args),
+        Command::Render(args) => render::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

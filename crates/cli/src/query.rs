@@ -1,0 +1,11 @@
+//! `spheresweep query`: not written yet (issue 16); refuses to run rather than pretend.
+
+use std::error::Error;
+
+/// Options of `spheresweep query`.
+#[derive(Debug, clap::Args)]
+pub struct Args {}
+
+pub fn run(_args: &Args) -> Result<(), Box<dyn Error>> {
+    Err("spheresweep query is not implemented yet".into())
+}
