@@ -16,6 +16,7 @@ use glam::DVec3;
 use wide::f64x4;
 
 use super::cells::{Cells, NONE};
+use super::checkpoint::{Decoder, Encoder};
 use super::predict::{PairBatch, refine};
 use super::queue::{Calendar, Entry};
 use super::response::{Body as Dyn, Motion, Outcome, Responder};
@@ -853,6 +854,229 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             + self.queue.bytes()
             + b(&self.near)
             + b(&self.candidates)
+    }
+
+    /// Writes the whole dynamic state (see `sim::checkpoint`), in internal order.
+    pub fn save(&self, e: &mut Encoder) {
+        e.f64(self.now);
+        e.len(self.m.bodies.len());
+        for b in &self.m.bodies {
+            for x in [b.r.x, b.r.y, b.r.z, b.t, b.v.x, b.v.y, b.v.z, b.radius] {
+                e.f64(x);
+            }
+        }
+        for (k, b) in self.best.iter().enumerate() {
+            e.u32(self.m.counter[k]);
+            e.u32(self.id_of[k]);
+            for c in self.cells.at[k] {
+                e.u32(c as u32);
+            }
+            for c in &b.pairs {
+                e.f64(c.t);
+                e.u32(c.j);
+                e.u32(c.counter);
+            }
+            e.u8(u8::from(b.complete));
+            e.f64(b.wall_t);
+            e.u8(b.wall.kind as u8);
+            e.u32(b.wall.index);
+            e.f64(b.cross_t);
+            e.u8(b.cross_axis);
+            e.u8(u8::from(b.cross_up));
+        }
+        for x in [
+            self.since_reorder,
+            self.same_time,
+            self.stall_limit,
+            self.reorder_every,
+        ] {
+            e.u64(x);
+        }
+        for x in [self.window_start, self.min_progress, self.width] {
+            e.f64(x);
+        }
+        let s = &self.stats;
+        for x in [
+            s.pair_collisions,
+            s.wall_collisions,
+            s.crossings,
+            s.stale,
+            s.predictions,
+            s.kernels.sphere,
+            s.kernels.plane,
+            s.kernels.cylinder,
+            s.kernels.container,
+            s.joins,
+            s.guarded,
+        ] {
+            e.u64(x);
+        }
+        for x in [s.energy_lost, s.virial, s.max_overlap] {
+            e.f64(x);
+        }
+        self.responder.save(e);
+    }
+
+    /// Restores what [`save`](Self::save) wrote into an engine built from the same world;
+    /// `masses` and `materials` are the world's, in public order. Every index is checked, so a
+    /// damaged checkpoint is refused, never a panic.
+    pub fn load(
+        &mut self,
+        d: &mut Decoder,
+        masses: &[f64],
+        materials: &[u16],
+    ) -> Result<(), SimError> {
+        let n = self.m.bodies.len();
+        let bad = |what: String| SimError::Checkpoint(what);
+        // The world's radii, in public order, before the state is replaced.
+        let mut radii = vec![0.0; n];
+        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+            radii[id as usize] = b.radius;
+        }
+        self.now = d.f64()?;
+        d.len_eq(n, "spheres")?;
+        for b in &mut self.m.bodies {
+            let mut x = [0.0; 8];
+            for v in &mut x {
+                *v = d.f64()?;
+            }
+            if !x.iter().all(|v| v.is_finite()) {
+                return Err(bad("a sphere's state is not finite".into()));
+            }
+            *b = Dyn {
+                r: DVec3::new(x[0], x[1], x[2]),
+                t: x[3],
+                v: DVec3::new(x[4], x[5], x[6]),
+                radius: x[7],
+            };
+        }
+        let mut seen = vec![false; n];
+        for k in 0..n {
+            self.m.counter[k] = d.u32()?;
+            let id = d.u32()?;
+            if id as usize >= n || std::mem::replace(&mut seen[id as usize], true) {
+                return Err(bad(format!(
+                    "sphere numbering is not a permutation (entry {k})"
+                )));
+            }
+            self.id_of[k] = id;
+            let mut c = [0i32; 3];
+            for (a, v) in c.iter_mut().enumerate() {
+                *v = d.u32()? as i32;
+                if *v < 0 || *v >= self.cells.n[a] {
+                    return Err(bad(format!("sphere {id}: cell {v} outside the grid")));
+                }
+            }
+            self.cells.at[k] = c;
+            let mut b = Best::default();
+            for p in &mut b.pairs {
+                let (t, j, counter) = (d.f64()?, d.u32()?, d.u32()?);
+                if j != NONE && j as usize >= n {
+                    return Err(bad(format!("sphere {id}: partner {j} does not exist")));
+                }
+                *p = Candidate { t, j, counter };
+            }
+            b.complete = d.u8()? != 0;
+            b.wall_t = d.f64()?;
+            let kind = match d.u8()? {
+                1 => ShapeKind::Plane,
+                2 => ShapeKind::Cylinder,
+                3 => ShapeKind::Container,
+                k => return Err(bad(format!("sphere {id}: static shape kind {k}"))),
+            };
+            b.wall = Body::new(kind, d.u32()?);
+            let shapes = match kind {
+                ShapeKind::Plane => self.walls.planes.len(),
+                ShapeKind::Cylinder => self.walls.cylinders.len(),
+                _ => self.walls.containers.len(),
+            };
+            if b.wall_t.is_finite() && b.wall.index as usize >= shapes {
+                return Err(bad(format!("sphere {id}: {} does not exist", b.wall)));
+            }
+            b.cross_t = d.f64()?;
+            b.cross_axis = d.u8()?.min(2);
+            b.cross_up = d.u8()? != 0;
+            let axis = usize::from(b.cross_axis);
+            let next = c[axis] + if b.cross_up { 1 } else { -1 };
+            if !PERIODIC && b.cross_t.is_finite() && (next < 0 || next >= self.cells.n[axis]) {
+                return Err(bad(format!("sphere {id}: a crossing out of the grid")));
+            }
+            if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.cross_t]
+                .iter()
+                .any(|t| t.is_nan())
+            {
+                return Err(bad(format!("sphere {id}: an event time is NaN")));
+            }
+            self.best[k] = b;
+        }
+        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+            if b.radius != radii[id as usize] {
+                return Err(bad(format!(
+                    "sphere {id}: radius {} is not the world's {}",
+                    b.radius, radii[id as usize]
+                )));
+            }
+        }
+        for x in [
+            &mut self.since_reorder,
+            &mut self.same_time,
+            &mut self.stall_limit,
+            &mut self.reorder_every,
+        ] {
+            *x = d.u64()?;
+        }
+        for x in [
+            &mut self.window_start,
+            &mut self.min_progress,
+            &mut self.width,
+        ] {
+            *x = d.f64()?;
+        }
+        if !(self.width.is_finite() && self.width > 0.0 && self.now.is_finite()) {
+            return Err(bad(format!(
+                "time {} or calendar width {} invalid",
+                self.now, self.width
+            )));
+        }
+        let s = &mut self.stats;
+        for x in [
+            &mut s.pair_collisions,
+            &mut s.wall_collisions,
+            &mut s.crossings,
+            &mut s.stale,
+            &mut s.predictions,
+            &mut s.kernels.sphere,
+            &mut s.kernels.plane,
+            &mut s.kernels.cylinder,
+            &mut s.kernels.container,
+            &mut s.joins,
+            &mut s.guarded,
+        ] {
+            *x = d.u64()?;
+        }
+        for x in [&mut s.energy_lost, &mut s.virial, &mut s.max_overlap] {
+            *x = d.f64()?;
+        }
+        self.responder.load(d, n)?;
+        self.m.mass = self.id_of.iter().map(|&id| masses[id as usize]).collect();
+        self.m.material = self
+            .id_of
+            .iter()
+            .map(|&id| materials[id as usize])
+            .collect();
+        self.cells.clear();
+        for k in 0..n {
+            self.cells.insert(k as u32, self.cells.at[k]);
+        }
+        if let Some(log) = &mut self.log {
+            log.clear();
+        }
+        self.version = vec![0; n];
+        self.queue = Calendar::new(self.width, n, self.now);
+        for i in 0..n as u32 {
+            self.schedule(i);
+        }
+        Ok(())
     }
 
     /// Renumbers the spheres in cell order (then by index, so the result is deterministic):

@@ -20,6 +20,8 @@
 //! static shapes use the f64 kernels. Policies and bounds: docs/derivations/simulation.md.
 
 mod cells;
+mod checkpoint;
+mod demo;
 mod engine;
 pub mod generate;
 mod model;
@@ -27,6 +29,7 @@ mod predict;
 mod queue;
 mod response;
 
+pub use demo::demo_world;
 pub use model::{Boundary, Effects, Fixed, MaterialPair, Response, SimError, SphereState, World};
 
 use glam::DVec3;
@@ -139,6 +142,13 @@ trait Run: Send {
     fn clusters(&self) -> Vec<Vec<u32>>;
     fn name(&self) -> String;
     fn bytes(&self) -> usize;
+    fn save(&self, e: &mut checkpoint::Encoder);
+    fn load(
+        &mut self,
+        d: &mut checkpoint::Decoder,
+        masses: &[f64],
+        materials: &[u16],
+    ) -> Result<(), SimError>;
     /// Test-only: check the prediction invariant after every event.
     #[cfg(test)]
     fn set_checking(&mut self);
@@ -194,6 +204,17 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
         c.sort_unstable();
         c
     }
+    fn save(&self, e: &mut checkpoint::Encoder) {
+        Engine::save(self, e)
+    }
+    fn load(
+        &mut self,
+        d: &mut checkpoint::Decoder,
+        masses: &[f64],
+        materials: &[u16],
+    ) -> Result<(), SimError> {
+        Engine::load(self, d, masses, materials)
+    }
     fn bytes(&self) -> usize {
         Engine::bytes(self)
             + self
@@ -224,6 +245,8 @@ pub struct Simulation {
     /// Each sphere's material and mass, in public order.
     materials: Vec<u16>,
     masses: Vec<f64>,
+    /// Identifies the world a checkpoint belongs to.
+    fingerprint: u64,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -240,6 +263,7 @@ impl Simulation {
     /// and assembles the engine for exactly the effects the world uses.
     pub fn new(world: World) -> Result<Self, SimError> {
         world.validate()?;
+        let fingerprint = world_fingerprint(&world);
         let n = world.spheres.len();
         let max_d = world
             .spheres
@@ -419,6 +443,7 @@ impl Simulation {
             engine,
             materials,
             masses,
+            fingerprint,
         })
     }
 
@@ -472,6 +497,77 @@ impl Simulation {
         self.engine.bytes() + self.masses.capacity() * 8 + self.materials.capacity() * 2
     }
 
+    /// The whole dynamic state as bytes: restored with [`restore`](Self::restore) into the same
+    /// world, the run continues bit for bit as this one would. Take it between
+    /// [`advance_with`](Self::advance_with) calls (or when one stops early); unread event
+    /// records are not part of it.
+    pub fn checkpoint(&self) -> Vec<u8> {
+        let mut e = checkpoint::Encoder::default();
+        e.0.extend_from_slice(checkpoint::MAGIC);
+        e.u32(checkpoint::VERSION);
+        e.u64(self.fingerprint);
+        self.engine.save(&mut e);
+        let sum = checkpoint::checksum(&e.0);
+        e.u64(sum);
+        e.0
+    }
+
+    /// The simulation of `world` at the state a [`checkpoint`](Self::checkpoint) holds.
+    ///
+    /// # Errors
+    /// [`SimError::Checkpoint`] if the bytes are not a checkpoint of this format, belong to
+    /// another world, or are damaged (every index is checked; nothing panics).
+    ///
+    /// ```
+    /// use spheresweep::sim::{Simulation, World, generate};
+    /// let mut world = World::default();
+    /// generate::periodic_gas(&mut world, 256, 0.3, 0.5, 1.0, 3)?;
+    /// let mut a = Simulation::new(world.clone())?;
+    /// a.advance_to(1.0)?;
+    /// let saved = a.checkpoint();
+    /// a.advance_to(2.0)?;
+    /// let mut b = Simulation::restore(world, &saved)?;
+    /// b.advance_to(2.0)?;
+    /// assert_eq!(a.spheres(), b.spheres());
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn restore(world: World, bytes: &[u8]) -> Result<Self, SimError> {
+        let mut sim = Simulation::new(world)?;
+        let Some((body, sum)) = bytes.split_last_chunk::<8>() else {
+            return Err(SimError::Checkpoint(format!(
+                "truncated: {} bytes",
+                bytes.len()
+            )));
+        };
+        let mut d = checkpoint::Decoder::new(body);
+        let magic = [d.u8()?, d.u8()?, d.u8()?, d.u8()?];
+        if &magic != checkpoint::MAGIC {
+            return Err(SimError::Checkpoint("not a spheresweep checkpoint".into()));
+        }
+        if checkpoint::checksum(body) != u64::from_le_bytes(*sum) {
+            return Err(SimError::Checkpoint(
+                "damaged: the checksum does not match".into(),
+            ));
+        }
+        let version = d.u32()?;
+        if version != checkpoint::VERSION {
+            return Err(SimError::Checkpoint(format!(
+                "format version {version}; this build reads version {}",
+                checkpoint::VERSION
+            )));
+        }
+        if d.u64()? != sim.fingerprint {
+            return Err(SimError::Checkpoint(
+                "written for another world (shapes, boundary, effects, masses or materials differ)"
+                    .into(),
+            ));
+        }
+        let (masses, materials) = (sim.masses.clone(), sim.materials.clone());
+        sim.engine.load(&mut d, &masses, &materials)?;
+        d.finish()?;
+        Ok(sim)
+    }
+
     /// Every sphere at the current time (periodic centres wrapped into the box).
     pub fn spheres(&self) -> Vec<SphereState> {
         self.engine
@@ -517,6 +613,20 @@ impl Simulation {
     pub fn clusters(&self) -> Vec<Vec<u32>> {
         self.engine.clusters()
     }
+}
+
+/// What a checkpoint must match: everything in the world but the spheres' positions and
+/// velocities (which the checkpoint carries).
+fn world_fingerprint(w: &World) -> u64 {
+    let per_sphere: Vec<(u64, u64, u16)> = w
+        .spheres
+        .iter()
+        .map(|s| (s.radius.to_bits(), s.mass.to_bits(), s.material))
+        .collect();
+    checkpoint::fingerprint(&format!(
+        "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+        per_sphere, w.planes, w.cylinders, w.containers, w.boundary, w.materials, w.effects
+    ))
 }
 
 /// No two spheres overlap, and no sphere is through a shape, beyond the tolerance.
@@ -586,6 +696,117 @@ fn check_start(m: &Motion, cells: &Cells, periodic: bool, walls: &Walls) -> Resu
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run restored from a checkpoint ends bit for bit where the uninterrupted run ends: the
+    /// gas, a sticky and inelastic mix with clusters in a container (renumbering in between),
+    /// and report-only; a damaged checkpoint or another world is refused, never a panic.
+    #[test]
+    fn checkpoints_resume_bit_for_bit() {
+        let mut worlds = Vec::new();
+        let mut gas = World::default();
+        generate::periodic_gas(&mut gas, 500, 0.35, 0.5, 1.0, 4).unwrap();
+        worlds.push((gas.clone(), 3.0));
+        let inside = |p: DVec3| p.length() < 3.4;
+        let mut spheres = generate::random_spheres(
+            DVec3::splat(-3.5),
+            DVec3::splat(3.5),
+            &inside,
+            80,
+            0.4,
+            1.0,
+            0,
+            3,
+        )
+        .unwrap();
+        for s in spheres.iter_mut().step_by(3) {
+            s.material = 1;
+        }
+        worlds.push((
+            World {
+                spheres: spheres.clone(),
+                containers: vec![Fixed {
+                    shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
+                    material: 0,
+                }],
+                materials: vec!["a".into(), "b".into()],
+                effects: Effects {
+                    response: Response::Inelastic { restitution: 0.8 },
+                    pairs: vec![MaterialPair {
+                        a: 1,
+                        b: 1,
+                        response: Response::Sticky,
+                    }],
+                    tc: 1e-3,
+                    ..Effects::default()
+                },
+                ..World::default()
+            },
+            20.0,
+        ));
+        worlds.push((
+            World {
+                spheres,
+                materials: vec!["a".into(), "b".into()],
+                effects: Effects {
+                    response: Response::None,
+                    ..Effects::default()
+                },
+                ..World::default()
+            },
+            3.0,
+        ));
+        for (world, t) in worlds {
+            let mut a = Simulation::new(world.clone()).unwrap();
+            a.advance_to(t / 3.0).unwrap();
+            let saved = a.checkpoint();
+            a.advance_to(t).unwrap();
+            let mut b = Simulation::restore(world.clone(), &saved).unwrap();
+            b.advance_to(t).unwrap();
+            assert!(
+                a.stats().pair_collisions > 50,
+                "{}: {:?}",
+                a.engine_name(),
+                a.stats()
+            );
+            assert_eq!(a.spheres(), b.spheres(), "{}", a.engine_name());
+            assert_eq!(a.stats(), b.stats());
+            assert_eq!(a.clusters(), b.clusters());
+            // Damage: every truncation and a flipped byte in the header are refused.
+            for cut in [0, 3, 8, 20, saved.len() / 2, saved.len() - 1] {
+                assert!(Simulation::restore(world.clone(), &saved[..cut]).is_err());
+            }
+            let mut flipped = saved.clone();
+            flipped[9] ^= 1;
+            assert!(
+                Simulation::restore(world.clone(), &flipped)
+                    .unwrap_err()
+                    .to_string()
+                    .contains("damaged")
+            );
+        }
+        // Another world (one radius differs) is refused by its fingerprint.
+        let mut other = gas.clone();
+        other.spheres[7].radius *= 0.999;
+        let mut a = Simulation::new(gas.clone()).unwrap();
+        a.advance_to(0.2).unwrap();
+        assert!(
+            Simulation::restore(other, &a.checkpoint())
+                .unwrap_err()
+                .to_string()
+                .contains("another world")
+        );
+        // Random damage anywhere is refused, never a panic.
+        let mut rng = crate::rng::Rng::new(1);
+        let mut a = Simulation::new(gas.clone()).unwrap();
+        a.advance_to(0.5).unwrap();
+        let saved = a.checkpoint();
+        for _ in 0..200 {
+            let mut bytes = saved.clone();
+            let k = 16 + (rng.unit() * (bytes.len() - 16) as f64) as usize;
+            bytes[k] ^= 1 << (rng.unit() * 8.0) as u32;
+            assert!(Simulation::restore(gas.clone(), &bytes).is_err());
+        }
+    }
 
     /// After every event, no pair meets before both of its spheres' next events (brute force
     /// over all pairs and images): the engine's prediction rules (stale partners, the two kept

@@ -192,7 +192,11 @@ pub enum SimError {
         /// The time asked for.
         to: f64,
     },
-    /// The engine processed events without time advancing, beyond its limit.
+    /// A checkpoint could not be restored.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
+    /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a
+    /// sphere's mean time between events (an inelastic collapse, or a bug).
     #[error(
         "stalled at t = {time}: {events} events without time advancing (a dense inelastic pile needs the TC model, `tc > 0`)"
     )]

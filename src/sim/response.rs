@@ -5,7 +5,8 @@
 
 use glam::DVec3;
 
-use super::model::Response;
+use super::checkpoint::{Decoder, Encoder};
+use super::model::{Response, SimError};
 
 /// One sphere's dynamics, f64: centre at its own time `t`, velocity, radius. 64 bytes, so a
 /// neighbour is one cache line.
@@ -91,6 +92,12 @@ pub(crate) trait Responder: Send + Sync + 'static {
     fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome);
     /// The spheres were renumbered: sphere `old` is now `new_of_old[old]`.
     fn permute(&mut self, _new_of_old: &[u32]) {}
+    /// Writes the response's state to a checkpoint.
+    fn save(&self, _e: &mut Encoder) {}
+    /// Reads it back for `n` spheres, checking every index.
+    fn load(&mut self, _d: &mut Decoder, _n: usize) -> Result<(), SimError> {
+        Ok(())
+    }
     /// Report-only scenes: whether `j` is the partner `i` is already touching.
     #[inline(always)]
     fn touching(&self, _i: u32, _j: u32) -> bool {
@@ -143,6 +150,20 @@ impl Responder for ReportOnly {
             .into_iter()
             .map(|p| renumbered(p, new_of_old))
             .collect();
+    }
+    fn save(&self, e: &mut Encoder) {
+        for &p in &self.partner {
+            e.u32(p);
+        }
+    }
+    fn load(&mut self, d: &mut Decoder, n: usize) -> Result<(), SimError> {
+        for p in &mut self.partner {
+            *p = d.u32()?;
+            if *p != u32::MAX && *p as usize >= n {
+                return Err(SimError::Checkpoint(format!("partner {p} does not exist")));
+            }
+        }
+        Ok(())
     }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
         self.partner[i as usize] = j;
@@ -340,6 +361,37 @@ impl Responder for Materials {
                 m.iter().map(|&s| renumbered(s, new_of_old)).collect();
         }
         self.members = members;
+    }
+    fn save(&self, e: &mut Encoder) {
+        for k in 0..self.cluster.len() {
+            e.f64(self.last[k]);
+            e.u32(self.cluster[k]);
+            e.f64(self.cmass[k]);
+            e.len(self.members[k].len());
+            for &s in &self.members[k] {
+                e.u32(s);
+            }
+        }
+    }
+    fn load(&mut self, d: &mut Decoder, n: usize) -> Result<(), SimError> {
+        let bad = |what: String| Err(SimError::Checkpoint(what));
+        for k in 0..n {
+            self.last[k] = d.f64()?;
+            self.cluster[k] = d.u32()?;
+            if self.cluster[k] as usize >= n {
+                return bad(format!("cluster {} does not exist", self.cluster[k]));
+            }
+            self.cmass[k] = d.f64()?;
+            let len = d.len(4, "cluster members")?;
+            if len > n {
+                return bad(format!("cluster of {len} members in a world of {n}"));
+            }
+            self.members[k] = (0..len).map(|_| d.u32()).collect::<Result<_, _>>()?;
+            if self.members[k].iter().any(|&s| s as usize >= n) {
+                return bad("a cluster member does not exist".into());
+            }
+        }
+        Ok(())
     }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome) {
         let (ci, cj) = (self.cluster[i as usize], self.cluster[j as usize]);
