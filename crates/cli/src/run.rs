@@ -37,6 +37,104 @@ pub struct Args {
     /// No progress bar (there is none either when stderr is not a terminal).
     #[arg(long)]
     quiet: bool,
+    /// Write `checkpoint.bin` in the output directory every T of simulated time (at the first
+    /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
+    /// from the last one.
+    #[arg(long, value_name = "T")]
+    checkpoint_every: Option<f64>,
+    /// Continue the run a checkpoint of this scene holds (`--checkpoint-every`): the outputs
+    /// end exactly as those of a run never interrupted.
+    #[arg(long, value_name = "CHECKPOINT")]
+    resume: Option<PathBuf>,
+}
+
+/// A run's checkpoint: where the run was, what it had written, and the simulation's state.
+struct RunCheckpoint {
+    next_stop: u64,
+    frames: u64,
+    logged: u64,
+    ke0: f64,
+    p0: DVec3,
+    momentum_scale: f64,
+    simulated: f64,
+    trajectory: Vec<u8>,
+    events: Vec<u8>,
+    sim: Vec<u8>,
+}
+
+const RUN_MAGIC: &[u8; 8] = b"SSRUN\0\0\x01";
+
+impl RunCheckpoint {
+    fn to_bytes(&self) -> Vec<u8> {
+        let mut b = RUN_MAGIC.to_vec();
+        for x in [self.next_stop, self.frames, self.logged] {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        for x in [
+            self.ke0,
+            self.p0.x,
+            self.p0.y,
+            self.p0.z,
+            self.momentum_scale,
+            self.simulated,
+        ] {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        for part in [&self.trajectory, &self.events, &self.sim] {
+            b.extend_from_slice(&(part.len() as u64).to_le_bytes());
+            b.extend_from_slice(part);
+        }
+        b
+    }
+
+    fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self, String> {
+        let bad = || {
+            format!(
+                "{}: not a checkpoint of `spheresweep run`, or damaged",
+                path.display()
+            )
+        };
+        let rest = bytes.strip_prefix(RUN_MAGIC).ok_or_else(bad)?;
+        let mut pos = 0usize;
+        let mut take = |n: usize| -> Result<&[u8], String> {
+            let end = pos
+                .checked_add(n)
+                .filter(|&e| e <= rest.len())
+                .ok_or_else(bad)?;
+            let s = &rest[pos..end];
+            pos = end;
+            Ok(s)
+        };
+        let mut u64s = [0u64; 3];
+        for x in &mut u64s {
+            *x = u64::from_le_bytes(take(8)?.try_into().map_err(|_| bad())?);
+        }
+        let mut f64s = [0f64; 6];
+        for x in &mut f64s {
+            *x = f64::from_le_bytes(take(8)?.try_into().map_err(|_| bad())?);
+        }
+        let mut parts: [Vec<u8>; 3] = Default::default();
+        for part in &mut parts {
+            let len = u64::from_le_bytes(take(8)?.try_into().map_err(|_| bad())?);
+            *part = take(usize::try_from(len).map_err(|_| bad())?)?.to_vec();
+        }
+        if pos != rest.len() {
+            return Err(bad());
+        }
+        let [trajectory, events, sim] = parts;
+        Ok(Self {
+            next_stop: u64s[0],
+            frames: u64s[1],
+            logged: u64s[2],
+            ke0: f64s[0],
+            p0: DVec3::new(f64s[1], f64s[2], f64s[3]),
+            momentum_scale: f64s[4],
+            simulated: f64s[5],
+            trajectory,
+            events,
+            sim,
+        })
+    }
 }
 
 /// Progress steps of a run without snapshots.
@@ -61,6 +159,12 @@ impl Staged {
             tmp,
             out: Some(BufWriter::with_capacity(1 << 20, file)),
         })
+    }
+
+    /// Everything written so far (flushed first).
+    fn contents(&mut self) -> Result<Vec<u8>, String> {
+        self.writer().flush().map_err(|e| self.fail(e))?;
+        std::fs::read(&self.tmp).map_err(|e| self.fail(e))
     }
 
     fn writer(&mut self) -> &mut BufWriter<File> {
@@ -170,6 +274,19 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     {
         return Err(format!("--snapshots {s} must be finite and 0 (none) or more").into());
     }
+    if let Some(c) = args.checkpoint_every
+        && !(c.is_finite() && c > 0.0)
+    {
+        return Err(format!("--checkpoint-every {c} must be finite and greater than 0").into());
+    }
+    let resume = match &args.resume {
+        Some(path) => {
+            let bytes =
+                std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            Some(RunCheckpoint::from_bytes(&bytes, path)?)
+        }
+        None => None,
+    };
     let scene = SceneFile::from_path(&args.scene)?;
     let (world, mut settings) = scene.build()?;
     if let Some(t) = args.t_end {
@@ -223,7 +340,17 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             }
         }
     );
-    let mut sim = Simulation::new(world).map_err(|e| scene.locate(e))?;
+    let mut sim = match &resume {
+        Some(c) => Simulation::restore(world, &c.sim).map_err(|e| {
+            format!(
+                "{}: {e} (resume with the scene and options the checkpoint was written with)",
+                args.resume
+                    .as_ref()
+                    .map_or(String::new(), |p| p.display().to_string())
+            )
+        })?,
+        None => Simulation::new(world).map_err(|e| scene.locate(e))?,
+    };
 
     // The outputs: checked, then staged in the output directory.
     let dir = args.out.clone().unwrap_or_else(|| default_out(&args.scene));
@@ -236,27 +363,55 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         dir.join("summary.json"),
     );
     crate::output::check_writable(&json_path)?;
+    let checkpoint_path = dir.join("checkpoint.bin");
+    if resume.is_some() {
+        // Temporary files an interrupted run left behind in this directory.
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if (name.starts_with(".trajectory.xyz.") || name.starts_with(".events.csv."))
+                && name.ends_with(".tmp")
+            {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
     let mut trajectory = match settings.snapshot_every {
-        Some(_) => Some(Staged::create(xyz_path.clone())?),
+        Some(_) => {
+            let mut f = Staged::create(xyz_path.clone())?;
+            if let Some(c) = &resume {
+                f.writer().write_all(&c.trajectory).map_err(|e| f.fail(e))?;
+            }
+            Some(f)
+        }
         None => None,
     };
     let mut events = if record {
         let mut f = Staged::create(csv_path.clone())?;
-        let header = events_header(geometry);
-        writeln!(f.writer(), "{header}").map_err(|e| f.fail(e))?;
+        match &resume {
+            Some(c) => f.writer().write_all(&c.events).map_err(|e| f.fail(e))?,
+            None => writeln!(f.writer(), "{}", events_header(geometry)).map_err(|e| f.fail(e))?,
+        }
         Some(f)
     } else {
         None
     };
 
-    let (ke0, p0) = (sim.kinetic_energy(), sim.momentum());
-    let momentum_scale: f64 = sim
-        .spheres()
-        .iter()
-        .map(|s| s.mass * s.velocity.length())
-        .sum();
-    let mut frames = 0usize;
-    if let Some(t) = trajectory.as_mut() {
+    let (ke0, p0) = match &resume {
+        Some(c) => (c.ke0, c.p0),
+        None => (sim.kinetic_energy(), sim.momentum()),
+    };
+    let momentum_scale: f64 = match &resume {
+        Some(c) => c.momentum_scale,
+        None => sim
+            .spheres()
+            .iter()
+            .map(|s| s.mass * s.velocity.length())
+            .sum(),
+    };
+    let mut frames = resume.as_ref().map_or(0, |c| c.frames as usize);
+    if resume.is_none()
+        && let Some(t) = trajectory.as_mut()
+    {
         xyz::write_frame(t.writer(), &sim.spheres(), sim.time(), periodic_box)
             .map_err(|e| t.fail(e))?;
         frames += 1;
@@ -270,9 +425,16 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
     )?);
     let t_end = settings.t_end;
-    let mut simulated = Duration::ZERO;
-    let mut logged = 0u64;
-    for (stop, snapshot) in stops(t_end, settings.snapshot_every) {
+    let mut simulated = Duration::from_secs_f64(resume.as_ref().map_or(0.0, |c| c.simulated));
+    let mut logged = resume.as_ref().map_or(0, |c| c.logged);
+    let first = resume.as_ref().map_or(0, |c| c.next_stop as usize);
+    let mut next_checkpoint = args.checkpoint_every.map(|c| sim.time() + c);
+    let mut checkpoints = 0usize;
+    for (k, (stop, snapshot)) in stops(t_end, settings.snapshot_every)
+        .into_iter()
+        .enumerate()
+        .skip(first)
+    {
         let start = Instant::now();
         let mut progress = |t: f64, s: &Stats| {
             bar.set_position((t / t_end * 1000.0) as u64);
@@ -294,6 +456,28 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             xyz::write_frame(t.writer(), &sim.spheres(), sim.time(), periodic_box)
                 .map_err(|e| t.fail(e))?;
             frames += 1;
+        }
+        if let (Some(at), Some(every)) = (next_checkpoint, args.checkpoint_every)
+            && sim.time() >= at
+            && stop < t_end
+        {
+            let c = RunCheckpoint {
+                next_stop: k as u64 + 1,
+                frames: frames as u64,
+                logged,
+                ke0,
+                p0,
+                momentum_scale,
+                simulated: simulated.as_secs_f64(),
+                trajectory: trajectory
+                    .as_mut()
+                    .map_or(Ok(Vec::new()), Staged::contents)?,
+                events: events.as_mut().map_or(Ok(Vec::new()), Staged::contents)?,
+                sim: sim.checkpoint(),
+            };
+            crate::output::write_atomic(&checkpoint_path, &c.to_bytes())?;
+            checkpoints += 1;
+            next_checkpoint = Some(sim.time() + every);
         }
     }
     bar.finish_and_clear();
@@ -373,6 +557,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "frames": frames,
         "events": record.then_some(logged),
     });
+    if checkpoints > 0 {
+        wrote.push(format!(
+            "{} ({checkpoints} written; the last is kept)",
+            checkpoint_path.display()
+        ));
+    }
     let text = serde_json::to_string_pretty(&summary)?;
     crate::output::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
     wrote.push(json_path.display().to_string());
