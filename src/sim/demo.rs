@@ -19,8 +19,8 @@ const PILLAR_RING: f64 = 7.0;
 const BEADS: usize = 4000;
 const BEAD_RADIUS: f64 = 0.5;
 const BEAD_SPEED: f64 = 1.0;
-/// Every fifth bead is glue.
-const GLUE_EVERY: usize = 5;
+/// Every eighth bead is glue.
+const GLUE_EVERY: usize = 8;
 /// The placement seed.
 const SEED: u64 = 2016;
 
@@ -30,22 +30,22 @@ const SEED: u64 = 2016;
 /// radius 1.5 standing 7 from the vessel's axis, each bead moving at speed 1 in a random
 /// direction. There is no gravity.
 ///
-/// Materials, in order: `"glass"` (four beads in five), `"glue"` (every fifth bead: beads 0, 5,
-/// 10, …), `"steel"` (the vessel and the pillars) and `"floor"`. Collisions are elastic except
+/// Materials, in order: `"glass"` (seven beads in eight), `"glue"` (every eighth bead: beads 0,
+/// 8, 16, …), `"steel"` (the vessel and the pillars) and `"floor"`. Collisions are elastic except
 /// glue against glue and glue against the floor, which are sticky: glue beads join into
 /// clusters that move as one, and a cluster that touches the floor stays there. So the glass
 /// gas keeps its energy while the glue aggregates and settles on the floor, and the scene
 /// exercises every kernel: sphere pairs, a plane, cylinders and a container.
 ///
-/// The boundary is open (the cell grid covers the vessel). At `t = 300` the run has about two
-/// million collisions.
+/// The boundary is open (the cell grid covers the vessel). By `t = 300` the beads have collided
+/// about a million times.
 ///
 /// ```
 /// use spheresweep::sim::{Response, Simulation, demo_world};
 /// let world = demo_world();
 /// assert_eq!(world.spheres.len(), 4000);
 /// assert_eq!(world.materials, ["glass", "glue", "steel", "floor"]);
-/// assert_eq!(world.spheres[5].material, 1); // glue
+/// assert_eq!((world.spheres[8].material, world.spheres[9].material), (1, 0)); // glue, glass
 /// assert_eq!((world.planes.len(), world.cylinders.len(), world.containers.len()), (1, 3, 1));
 /// assert_eq!(world, demo_world()); // deterministic
 ///
@@ -168,5 +168,18 @@ mod tests {
             .filter(|s| s.material == 1 && s.velocity == DVec3::ZERO)
             .count();
         assert!(resting > 0);
+    }
+
+    /// No collision is missed: every contact is found before the beads overlap. Fails today:
+    /// when a bead of a glue cluster stuck to the floor (infinite mass) has an elastic
+    /// collision with a glass bead as its own event, the engine does not predict that bead
+    /// again (its velocity did not change), so the second contact it held is lost and a glass
+    /// bead passes into it (overlap 0.13 of the contact distance before t = 30).
+    #[test]
+    #[ignore = "engine: a stuck cluster's bead is not predicted again after its own elastic event"]
+    fn no_contact_is_missed() {
+        let mut sim = Simulation::new(demo_world()).unwrap();
+        sim.advance_to(30.0).unwrap();
+        assert!(sim.stats().max_overlap < 1e-9, "{:?}", sim.stats());
     }
 }
