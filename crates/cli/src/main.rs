@@ -22,7 +22,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Query the built-in demo scene for every sphere's first contact and print a table.
+    /// The whole mission on a built-in scene in seconds: 4000 glass and glue beads in a vessel
+    /// with a floor and pillars, simulated event by event (progress bar), a summary, and a
+    /// picture in spheresweep-demo/ (SVG and PNG). `--table`: the first-contact table of the
+    /// nine-sphere query scene instead.
     Demo(demo::Args),
     /// Throughput of every kernel and mode, the broad phase and the whole query, each against
     /// parry3d in the same run, one thread (`--quick` for a run under a minute, `--json`).
