@@ -1,11 +1,385 @@
-//! `spheresweep render`: not written yet (issue 16); refuses to run rather than pretend.
+//! `spheresweep render`: pictures of a scene file (its world at `t = 0`) or of recorded
+//! snapshots (extended XYZ, as `spheresweep run` writes them: one frame, or every frame as a
+//! numbered sequence), side and/or top view, as SVG and/or PNG.
+//!
+//! Everything that can be refused (the input, the frame, the scene of shapes, the output
+//! directory) is refused before any picture is written; each picture is written under a
+//! temporary name and renamed into place, and if writing one fails, the pictures this run had
+//! already added are removed again.
 
 use std::error::Error;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use rayon::prelude::*;
+use spheresweep::io::scene_file::SceneFile;
+use spheresweep::io::xyz::{self, Frame};
+use spheresweep::sim::SphereState;
+
+use crate::picture::{
+    self, Canvas, Content, Format, Key, MATERIAL_COLOURS, Paint, Panel, Rgb, Shapes, Size, View,
+};
 
 /// Options of `spheresweep render`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// A scene file (TOML, or JSON if its name ends in .json), drawn at t = 0; or snapshots in
+    /// extended XYZ (a name ending in .xyz or .extxyz), such as `run` writes in trajectory.xyz.
+    input: PathBuf,
+    /// Directory for the pictures (default: `<stem>-render/` beside the input). A scene gives
+    /// `<stem>.svg`/`.png`; snapshots give `frame-0000.svg`/`.png`, `frame-0001…`, numbered
+    /// by frame.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Snapshots only: draw frame K (counted from 0) instead of every frame.
+    #[arg(long, value_name = "K")]
+    frame: Option<usize>,
+    /// Snapshots only: draw this scene file's planes, cylinders and containers behind the
+    /// spheres, and name its materials in the legend.
+    #[arg(long, value_name = "SCENE")]
+    scene: Option<PathBuf>,
+    /// Which files: svg, png or both.
+    #[arg(long, value_enum, default_value_t = Format::Both)]
+    format: Format,
+    /// Which view: side (x to the right, z up), top (x to the right, y up) or both side by
+    /// side.
+    #[arg(long, value_enum, default_value_t = Views::Both)]
+    view: Views,
+    /// Picture size in pixels, WIDTHxHEIGHT (default: 1600x800 for both views, 800x800 for
+    /// one).
+    #[arg(long, value_name = "WxH")]
+    size: Option<Size>,
+}
 
-pub fn run(_args: &Args) -> Result<(), Box<dyn Error>> {
-    Err("spheresweep render is not implemented yet".into())
+/// The `--view` choices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Views {
+    Side,
+    Top,
+    Both,
+}
+
+impl Views {
+    fn list(self) -> &'static [View] {
+        match self {
+            Views::Side => &[View::Side],
+            Views::Top => &[View::Top],
+            Views::Both => &[View::Side, View::Top],
+        }
+    }
+}
+
+/// What the input is.
+enum Input {
+    Scene,
+    Snapshots,
+}
+
+fn kind_of(path: &Path) -> Result<Input, String> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("toml" | "json") => Ok(Input::Scene),
+        Some("xyz" | "extxyz") => Ok(Input::Snapshots),
+        _ => Err(format!(
+            "{}: cannot tell what to draw: name a scene file .toml or .json, or snapshots .xyz \
+             or .extxyz",
+            path.display()
+        )),
+    }
+}
+
+/// One picture to draw: its file stem, title, spheres and time.
+struct Picture<'a> {
+    stem: String,
+    title: String,
+    spheres: &'a [SphereState],
+}
+
+/// The default output directory: `<stem>-render/` beside the input.
+fn default_out(input: &Path) -> PathBuf {
+    let stem = input
+        .file_stem()
+        .map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    let dir = match input.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    dir.join(format!("{stem}-render"))
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// Reads every frame of an extended XYZ file, naming the path (and line) at fault.
+fn read_snapshots(path: &Path) -> Result<Vec<Frame>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let frames = xyz::read_frames(&text)
+        .map_err(|e| format!("{}:{}: {}", path.display(), e.line, e.problem))?;
+    if frames.is_empty() {
+        return Err(format!("{}: no frames", path.display()));
+    }
+    Ok(frames)
+}
+
+pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    // The input, and everything asked of it, before any output.
+    let kind = kind_of(&args.input)?;
+    let views = args.view.list();
+    let size = args.size.unwrap_or(if views.len() == 2 {
+        Size {
+            width: 1600,
+            height: 800,
+        }
+    } else {
+        Size {
+            width: 800,
+            height: 800,
+        }
+    });
+    let name = file_name(&args.input);
+    let mut material_names: Vec<String> = Vec::new();
+    let frames: Vec<Frame>;
+    let mut shapes = Shapes::default();
+    let chosen: Vec<usize>;
+    match kind {
+        Input::Scene => {
+            if args.frame.is_some() {
+                return Err(format!(
+                    "--frame applies to snapshots (.xyz), not to the scene file {}",
+                    args.input.display()
+                )
+                .into());
+            }
+            if args.scene.is_some() {
+                return Err(format!(
+                    "--scene applies to snapshots (.xyz): {} is a scene file already",
+                    args.input.display()
+                )
+                .into());
+            }
+            let scene = SceneFile::from_path(&args.input)?;
+            let (world, _) = scene.build()?;
+            shapes = Shapes::of_world(&world);
+            material_names.clone_from(&world.materials);
+            frames = vec![Frame {
+                time: 0.0,
+                periodic_box: shapes.periodic_box,
+                spheres: world.spheres,
+            }];
+            chosen = vec![0];
+        }
+        Input::Snapshots => {
+            frames = read_snapshots(&args.input)?;
+            chosen = match args.frame {
+                Some(k) if k >= frames.len() => {
+                    return Err(format!(
+                        "--frame {k}: {} has {} frame{} (0 to {})",
+                        args.input.display(),
+                        frames.len(),
+                        if frames.len() == 1 { "" } else { "s" },
+                        frames.len() - 1
+                    )
+                    .into());
+                }
+                Some(k) => vec![k],
+                None => (0..frames.len()).collect(),
+            };
+            if let Some(scene_path) = &args.scene {
+                let scene = SceneFile::from_path(scene_path)?;
+                let (world, _) = scene.build()?;
+                shapes = Shapes::of_world(&world);
+                material_names.clone_from(&world.materials);
+            }
+            if shapes.periodic_box.is_none() {
+                shapes.periodic_box = frames[0].periodic_box;
+            }
+        }
+    }
+
+    // Every picture shares one view of the whole record, so that a sequence stays still.
+    let bounds = picture::bounds(frames.iter().flat_map(|f| &f.spheres), &shapes);
+    let digits = frames.len().saturating_sub(1).to_string().len().max(4);
+    let pictures: Vec<Picture> = chosen
+        .iter()
+        .map(|&k| {
+            let f = &frames[k];
+            match kind {
+                Input::Scene => Picture {
+                    stem: args
+                        .input
+                        .file_stem()
+                        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned()),
+                    title: format!("{name}: {} spheres at t = 0", f.spheres.len()),
+                    spheres: &f.spheres,
+                },
+                Input::Snapshots => Picture {
+                    stem: format!("frame-{k:0digits$}"),
+                    title: format!(
+                        "{name}: frame {k} of {}, t = {}, {} spheres",
+                        frames.len(),
+                        f.time,
+                        f.spheres.len()
+                    ),
+                    spheres: &f.spheres,
+                },
+            }
+        })
+        .collect();
+
+    // The outputs: checked, then written.
+    let dir = args.out.clone().unwrap_or_else(|| default_out(&args.input));
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("--out {}: not a directory", dir.display()).into());
+    }
+    let extensions = args.format.extensions();
+    let first = dir.join(format!("{}.{}", pictures[0].stem, extensions[0]));
+    crate::output::check_writable(&first)?;
+
+    let used: Vec<u16> = {
+        let mut m: Vec<u16> = chosen
+            .iter()
+            .flat_map(|&k| frames[k].spheres.iter().map(|s| s.material))
+            .collect();
+        m.sort_unstable();
+        m.dedup();
+        m
+    };
+    let legend: Vec<(Key, String)> = used
+        .iter()
+        .map(|&m| {
+            let label = material_names
+                .get(usize::from(m))
+                .cloned()
+                .unwrap_or_else(|| format!("material {m}"));
+            (Key::Disk(colour(m)), label)
+        })
+        .collect();
+    let results: Vec<Result<Vec<(PathBuf, bool)>, String>> = pictures
+        .par_iter()
+        .map(|p| {
+            let canvas = draw(size, views, p, &shapes, bounds, &legend);
+            let mut written = Vec::new();
+            for ext in extensions {
+                let path = dir.join(format!("{}.{ext}", p.stem));
+                let existed = path.exists();
+                let bytes = Format::encode(&canvas, ext)?;
+                crate::output::write_atomic(&path, &bytes)?;
+                written.push((path, !existed));
+            }
+            Ok(written)
+        })
+        .collect();
+    let mut written = Vec::new();
+    let mut failure = None;
+    for r in results {
+        match r {
+            Ok(w) => written.extend(w),
+            Err(e) => failure = failure.or(Some(e)),
+        }
+    }
+    if let Some(e) = failure {
+        for (path, new) in &written {
+            if *new {
+                let _ = std::fs::remove_file(path);
+            }
+        }
+        return Err(e.into());
+    }
+    let mut out = std::io::stdout().lock();
+    let files = written.len();
+    match written.as_slice() {
+        [] => {}
+        [(only, _)] => writeln!(out, "wrote {} ({size} px)", only.display())?,
+        [(a, _), (b, _)] => writeln!(out, "wrote {} and {} ({size} px)", a.display(), b.display())?,
+        [(a, _), .., (z, _)] => writeln!(
+            out,
+            "wrote {files} pictures ({size} px): {} … {}",
+            a.display(),
+            z.display()
+        )?,
+    }
+    Ok(())
+}
+
+/// The colour of material `m`.
+fn colour(m: u16) -> Paint {
+    MATERIAL_COLOURS[usize::from(m) % MATERIAL_COLOURS.len()].into()
+}
+
+/// One picture: the title, a panel per view, the legend of materials.
+fn draw(
+    size: Size,
+    views: &[View],
+    p: &Picture,
+    shapes: &Shapes,
+    bounds: (DVec3, DVec3),
+    legend: &[(Key, String)],
+) -> Canvas {
+    let mut canvas = Canvas::new(size.width, size.height, Rgb(255, 255, 255));
+    let fs = picture::text_size(size.width);
+    let (w, h) = (f64::from(size.width), f64::from(size.height));
+    canvas.text(
+        (fs, fs * 1.5),
+        &p.title,
+        fs,
+        Rgb::hex(0x222222),
+        picture::Anchor::Start,
+    );
+    let legend_y = h - fs * 0.7;
+    let rects = picture::panel_rects(size.width, fs * 2.0, legend_y - fs * 1.6, views.len(), fs);
+    let fill = |_: usize, s: &SphereState| colour(s.material);
+    let content = Content {
+        spheres: p.spheres,
+        fill: &fill,
+        shapes,
+        paths: &[],
+        bounds,
+    };
+    for (rect, &view) in rects.iter().zip(views) {
+        let (a, b) = view.axis_names();
+        let panel = Panel {
+            rect: *rect,
+            view,
+            title: match view {
+                View::Side => format!("side ({a}–{b})"),
+                View::Top => format!("top ({a}–{b})"),
+            },
+            slab: None,
+        };
+        picture::draw_panel(&mut canvas, &panel, &content);
+    }
+    let left = rects.first().map_or(fs, |r| r.x);
+    picture::legend(&mut canvas, (left, legend_y), w - fs, legend);
+    canvas
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inputs_are_told_apart_by_their_names() {
+        assert!(matches!(kind_of(Path::new("a/b.toml")), Ok(Input::Scene)));
+        assert!(matches!(kind_of(Path::new("b.JSON")), Ok(Input::Scene)));
+        assert!(matches!(kind_of(Path::new("t.xyz")), Ok(Input::Snapshots)));
+        let e = kind_of(Path::new("notes.txt")).err().unwrap();
+        assert!(e.contains("notes.txt") && e.contains(".xyz"), "{e}");
+    }
+
+    #[test]
+    fn the_default_output_is_beside_the_input() {
+        assert_eq!(
+            default_out(Path::new("scenes/jet.toml")),
+            Path::new("scenes/jet-render")
+        );
+        assert_eq!(default_out(Path::new("t.xyz")), Path::new("./t-render"));
+    }
 }
