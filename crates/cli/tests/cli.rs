@@ -401,3 +401,342 @@ fn a_failed_run_leaves_earlier_outputs_whole() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+// ---- demo (the simulation) and render (issue 16) ----
+
+/// Checks a PNG file: the signature, the IHDR size, and that it decodes whole.
+fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{}", path.display());
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |k: usize| u32::from_be_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
+    let size = (be(16), be(20));
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&bytes))
+        .read_info()
+        .unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!((info.width, info.height), size);
+    // Not blank: more than a handful of colours.
+    let mut colours: Vec<&[u8]> = pixels.chunks(3).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    assert!(
+        colours.len() > 10,
+        "{}: {} colours",
+        path.display(),
+        colours.len()
+    );
+    size
+}
+
+/// Parses an SVG file as XML: the root's size and how many circles it draws.
+fn svg_size(path: &std::path::Path) -> ((u32, u32), usize) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let doc =
+        roxmltree::Document::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "svg");
+    assert_eq!(
+        root.tag_name().namespace(),
+        Some("http://www.w3.org/2000/svg")
+    );
+    let dim = |a: &str| root.attribute(a).unwrap().parse::<u32>().unwrap();
+    let circles = root
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .count();
+    ((dim("width"), dim("height")), circles)
+}
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn demo_simulates_summarises_and_draws_into_its_default_directory() {
+    let dir = scratch("demo-sim");
+    let out = Command::new(env!("CARGO_BIN_EXE_spheresweep"))
+        .args(["demo", "--quick", "--size", "640x400"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    for line in [
+        "4000 beads (3500 glass, 500 glue)",
+        "engine       materials, open, static shapes",
+        "simulated    t = 0 → 30 in ",
+        "collisions   ",
+        " per second",
+        "glue clusters formed",
+        "energy       ",
+        "lost in sticky collisions",
+        "kernels      sphere ",
+        "all four ran",
+        "picture      spheresweep-demo/demo.svg, spheresweep-demo/demo.png (640 × 400 px)",
+    ] {
+        assert!(stdout.contains(line), "no {line:?} in\n{stdout}");
+    }
+    // No progress bar when stderr is not a terminal.
+    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+    let pictures = dir.join("spheresweep-demo");
+    assert_eq!(listing(&pictures), ["demo.png", "demo.svg"]);
+    let (size, circles) = svg_size(&pictures.join("demo.svg"));
+    assert_eq!(size, (640, 400));
+    assert!(circles > 500, "{circles} circles");
+    assert_eq!(png_size(&pictures.join("demo.png")), (640, 400));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn demo_table_keeps_the_first_contact_table() {
+    let out = run(&["demo", "--table"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("Built-in scene: 9 spheres") && stdout.contains("container 0"));
+    let out = run(&["demo", "--table", "--accuracy", "double", "--t-max", "5"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("First contacts in [0, 5] (double mode"));
+    // The simulation's options do not mix with the table's.
+    let out = run(&["demo", "--table", "--out", "/tmp/never"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("cannot be used with"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn demo_refuses_a_bad_size_or_output_before_running() {
+    let dir = scratch("demo-bad");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "kept\n").unwrap();
+    let out = run(&["demo", "--out", file.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("not a directory"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(out.stdout.is_empty(), "nothing printed before the error");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "kept\n");
+    let pictures = dir.join("pictures");
+    for size in ["0x400", "640", "640x-1", "9000x9000"] {
+        let out = run(&[
+            "demo",
+            "--quick",
+            "--size",
+            size,
+            "--out",
+            pictures.to_str().unwrap(),
+        ]);
+        assert!(!out.status.success(), "{size}");
+        assert!(
+            text(&out.stderr).contains("is not a picture size"),
+            "{size}: {}",
+            text(&out.stderr)
+        );
+        assert!(!pictures.exists(), "{size}: nothing written");
+    }
+    let out = run(&["demo", "--quick", "--out", "/proc/no-such-dir/pictures"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("cannot write /proc/no-such-dir/pictures/demo.svg"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn render_draws_a_scene_file_at_the_requested_size() {
+    let dir = scratch("render-scene");
+    let out = run(&[
+        "render",
+        &shipped("sticky_aggregation"),
+        "--out",
+        dir.to_str().unwrap(),
+        "--size",
+        "500x300",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(
+        listing(&dir),
+        ["sticky_aggregation.png", "sticky_aggregation.svg"]
+    );
+    let (size, circles) = svg_size(&dir.join("sticky_aggregation.svg"));
+    // 2000 spheres in each of the two views, and the vessel.
+    assert_eq!(size, (500, 300));
+    assert!(circles >= 4000, "{circles}");
+    assert_eq!(png_size(&dir.join("sticky_aggregation.png")), (500, 300));
+    // One view, one format; the default size for one view is square.
+    let top = dir.join("top");
+    let out = run(&[
+        "render",
+        &shipped("granular_jet"),
+        "--out",
+        top.to_str().unwrap(),
+        "--view",
+        "top",
+        "--format",
+        "png",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(listing(&top), ["granular_jet.png"]);
+    assert_eq!(png_size(&top.join("granular_jet.png")), (800, 800));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn render_draws_recorded_snapshots_one_frame_or_all() {
+    let dir = scratch("render-frames");
+    let scene = dir.join("balls.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 2.0\nsnapshot_every = 1.0\n\n\
+         [[container]]\ncentre = [0.0, 0.0, 0.0]\nradius = 6.0\n\n\
+         [[generate]]\nkind = \"random\"\ninside = 0\nn = 40\nradius = 0.5\nspeed = 1.0\n",
+    )
+    .unwrap();
+    let out = run(&["run", scene.to_str().unwrap(), "--quiet"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let xyz = dir.join("balls-run/trajectory.xyz");
+    // One frame.
+    let one = dir.join("one");
+    let out = run(&[
+        "render",
+        xyz.to_str().unwrap(),
+        "--frame",
+        "1",
+        "--out",
+        one.to_str().unwrap(),
+        "--size",
+        "320x240",
+        "--format",
+        "png",
+        "--scene",
+        scene.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(listing(&one), ["frame-0001.png"]);
+    assert_eq!(png_size(&one.join("frame-0001.png")), (320, 240));
+    // Every frame, by default beside the input.
+    let out = run(&["render", xyz.to_str().unwrap(), "--view", "side"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let all = dir.join("balls-run/trajectory-render");
+    assert_eq!(
+        listing(&all),
+        [
+            "frame-0000.png",
+            "frame-0000.svg",
+            "frame-0001.png",
+            "frame-0001.svg",
+            "frame-0002.png",
+            "frame-0002.svg"
+        ]
+    );
+    for k in 0..3 {
+        let (size, circles) = svg_size(&all.join(format!("frame-000{k}.svg")));
+        assert_eq!(size, (800, 800));
+        assert!(circles >= 40, "{circles}");
+        assert_eq!(png_size(&all.join(format!("frame-000{k}.png"))), (800, 800));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn render_errors_name_the_problem_and_write_nothing() {
+    let dir = scratch("render-bad");
+    let pictures = dir.join("pictures");
+    let bad_xyz = dir.join("bad.xyz");
+    std::fs::write(
+        &bad_xyz,
+        "2\nProperties=species:S:1:pos:R:3:radius:R:1 Time=0\nX 0 0 0 0.5\nX 2 oops 0 0.5\n",
+    )
+    .unwrap();
+    let good_xyz = dir.join("good.xyz");
+    std::fs::write(
+        &good_xyz,
+        "1\nProperties=species:S:1:pos:R:3:velo:R:3:radius:R:1:material:I:1 Time=0 pbc=\"F F F\"\n\
+         X 0 0 0 0 0 0 0.5 0\n",
+    )
+    .unwrap();
+    let notes = dir.join("notes.txt");
+    std::fs::write(&notes, "not a scene\n").unwrap();
+    let p = pictures.to_str().unwrap();
+    for (args, message) in [
+        (
+            vec!["render", "/no/such/dir/t.xyz", "--out", p],
+            "cannot read /no/such/dir/t.xyz".to_string(),
+        ),
+        (
+            vec!["render", "/no/such/dir/s.toml", "--out", p],
+            "cannot read /no/such/dir/s.toml".to_string(),
+        ),
+        (
+            vec!["render", bad_xyz.to_str().unwrap(), "--out", p],
+            format!("{}:4:", bad_xyz.display()),
+        ),
+        (
+            vec![
+                "render",
+                good_xyz.to_str().unwrap(),
+                "--frame",
+                "3",
+                "--out",
+                p,
+            ],
+            "--frame 3:".to_string(),
+        ),
+        (
+            vec![
+                "render",
+                good_xyz.to_str().unwrap(),
+                "--size",
+                "12x5000",
+                "--out",
+                p,
+            ],
+            "is not a picture size".to_string(),
+        ),
+        (
+            vec!["render", notes.to_str().unwrap(), "--out", p],
+            "cannot tell what to draw".to_string(),
+        ),
+        (
+            vec![
+                "render",
+                &shipped("granular_jet"),
+                "--frame",
+                "0",
+                "--out",
+                p,
+            ],
+            "--frame applies to snapshots".to_string(),
+        ),
+        (
+            vec![
+                "render",
+                good_xyz.to_str().unwrap(),
+                "--out",
+                notes.to_str().unwrap(),
+            ],
+            "not a directory".to_string(),
+        ),
+    ] {
+        let out = run(&args);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(
+            text(&out.stderr).contains(&message),
+            "{args:?}: no {message:?} in {}",
+            text(&out.stderr)
+        );
+        assert!(!pictures.exists(), "{args:?}: nothing written");
+    }
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), "not a scene\n");
+    std::fs::remove_dir_all(&dir).ok();
+}
