@@ -1,11 +1,499 @@
-//! `spheresweep query`: not written yet (issue 16); refuses to run rather than pretend.
+//! `spheresweep query`: the time of impact of every row of a file of sphere pairs, or of
+//! every sphere of a file against the static shapes of a shapes file, written to a file of the
+//! same format (docs/query-format.md).
+//!
+//! The input is read in chunks of `--chunk-rows` rows, each validated by the library's
+//! constructors, queried by its batch entry points and written out before the next is read,
+//! so memory stays flat whatever the input's size. Everything that can be refused before the
+//! first row (arguments, the shapes file, the input's header or schema, the output path) is
+//! refused before any output exists; the output is written under a temporary name and renamed
+//! into place when complete, so a query that fails half-way leaves nothing behind.
+//!
+//! - `layout`: the columns of each layout, chunks and results;
+//! - `compute`: a chunk through the library;
+//! - `shapes`: the shapes file (the scene file's shape tables);
+//! - `csv`, `npy`, `columnar` (feature `parquet`): the formats;
+//! - `staged`: outputs that appear whole or not at all.
+
+mod compute;
+mod csv;
+mod layout;
+mod npy;
+mod shapes;
+mod staged;
+
+#[cfg(feature = "parquet")]
+mod columnar;
 
 use std::error::Error;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use spheresweep::{Accuracy, QueryOptions};
+
+use compute::Shapes;
+use layout::{Chunk, Layout, OutColumn, Results};
 
 /// Options of `spheresweep query`.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(
+    after_help = "File layouts, column by column with types and units: docs/query-format.md."
+)]
+pub struct Args {
+    /// The input: a CSV file with a header; a .npy file holding one (N, 14) array (pairs) or
+    /// (N, 7) array (spheres); a directory of .npy files, one per column (ax.npy, ay.npy, …);
+    /// several .npy column files; a .parquet file or an Arrow IPC file (.arrow, .feather,
+    /// .ipc; .arrows for the stream format), with the `parquet` feature. A pairs file has
+    /// the columns ax, ay, az, avx, avy, avz, ar, bx, by, bz, bvx, bvy, bvz, br (centre at
+    /// t = 0, velocity, radius of spheres A and B); a spheres file (with --against) has x, y,
+    /// z, vx, vy, vz, r.
+    #[arg(required = true, num_args = 1.., value_name = "INPUT")]
+    input: Vec<PathBuf>,
+    /// Query every sphere of the input (a spheres file) against the planes, cylinders and
+    /// containers of this file: the plane, cylinder and container tables of a scene file
+    /// (TOML, or JSON if it ends in .json; docs/scene-format.md; the run table is optional).
+    #[arg(long, value_name = "SHAPES")]
+    against: Option<PathBuf>,
+    /// Where the results go; its extension picks the format (.csv, .parquet, .arrow,
+    /// .feather, .ipc, .arrows, .npy for a single time column; no extension: a directory of
+    /// .npy columns). Default: beside the input, named `<input>-toi`, in the input's format.
+    #[arg(long, value_name = "PATH")]
+    out: Option<PathBuf>,
+    /// Accuracy mode of the kernels: textbook, stable or double.
+    #[arg(long, default_value_t = Accuracy::Stable)]
+    accuracy: Accuracy,
+    /// End of the time window [0, t_max] (zero or more; inf for no end).
+    #[arg(long, default_value_t = f32::INFINITY, allow_negative_numbers = true)]
+    t_max: f32,
+    /// Also write the contact point and normal of every contact (px, py, pz, nx, ny, nz).
+    #[arg(long)]
+    geometry: bool,
+    /// Rows read, queried and written at a time (memory grows with it, not with the input).
+    #[arg(long, default_value_t = 1 << 20, value_name = "N")]
+    chunk_rows: usize,
+}
 
-pub fn run(_args: &Args) -> Result<(), Box<dyn Error>> {
-    Err("spheresweep query is not implemented yet".into())
+/// The most rows a chunk may hold (about 3.5 GiB of pair columns).
+const MAX_CHUNK_ROWS: usize = 1 << 26;
+
+/// Rows of an input, read a chunk at a time.
+pub trait Source {
+    /// Fills `chunk` with the next rows, at most `max` of them; `false` once the input is
+    /// exhausted (the chunk is then empty).
+    fn next(&mut self, max: usize, chunk: &mut Chunk) -> Result<bool, String>;
+    /// Rows in all, when the format tells before reading them.
+    fn total_rows(&self) -> Option<u64>;
+}
+
+/// Results written a chunk at a time to a staged output.
+pub trait Sink {
+    /// Appends one chunk's results.
+    fn write(&mut self, results: &Results) -> Result<(), String>;
+    /// Completes the output and renames it into place.
+    fn commit(self: Box<Self>) -> Result<(), String>;
+    /// The final path.
+    fn path(&self) -> &Path;
+}
+
+/// What the input is, from its path(s).
+#[derive(Debug, Clone, PartialEq)]
+enum Input {
+    Csv(PathBuf),
+    NpyMatrix(PathBuf),
+    NpyDir(PathBuf),
+    NpyFiles(Vec<PathBuf>),
+    Parquet(PathBuf),
+    Ipc(PathBuf),
+}
+
+/// What the output is, from its path or the input's format.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Output {
+    Csv,
+    NpyFile,
+    NpyDir,
+    Parquet,
+    Ipc { stream: bool },
+}
+
+impl Output {
+    fn name(self) -> &'static str {
+        match self {
+            Output::Csv => "CSV",
+            Output::NpyFile => ".npy array",
+            Output::NpyDir => "directory of .npy columns",
+            Output::Parquet => "Parquet",
+            Output::Ipc { stream: false } => "Arrow IPC file",
+            Output::Ipc { stream: true } => "Arrow IPC stream",
+        }
+    }
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+const FORMATS: &str = ".csv, .npy, a directory of .npy columns, .parquet or .pq, .arrow, \
+                       .feather, .ipc, .arrows";
+
+impl Input {
+    fn detect(paths: &[PathBuf]) -> Result<Self, String> {
+        for p in paths {
+            std::fs::metadata(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+        }
+        if paths.len() > 1 {
+            if let Some(p) = paths
+                .iter()
+                .find(|p| extension(p).as_deref() != Some("npy"))
+            {
+                return Err(format!(
+                    "{}: several inputs are read as .npy column files (ax.npy, ay.npy, …), and \
+                     this is not one",
+                    p.display()
+                ));
+            }
+            return Ok(Input::NpyFiles(paths.to_vec()));
+        }
+        let path = paths[0].clone();
+        if path.is_dir() {
+            return Ok(Input::NpyDir(path));
+        }
+        match extension(&path).as_deref() {
+            Some("csv") => Ok(Input::Csv(path)),
+            Some("npy") => Ok(Input::NpyMatrix(path)),
+            Some("parquet" | "pq") => Ok(Input::Parquet(path)),
+            Some("arrow" | "feather" | "ipc" | "arrows") => Ok(Input::Ipc(path)),
+            _ => Err(format!(
+                "{}: cannot tell the format from the name: expected {FORMATS}",
+                path.display()
+            )),
+        }
+    }
+
+    /// The path named in messages.
+    fn label(&self) -> String {
+        match self {
+            Input::Csv(p)
+            | Input::NpyMatrix(p)
+            | Input::NpyDir(p)
+            | Input::Parquet(p)
+            | Input::Ipc(p) => p.display().to_string(),
+            Input::NpyFiles(ps) => {
+                let names: Vec<String> = ps.iter().map(|p| p.display().to_string()).collect();
+                names.join(" ")
+            }
+        }
+    }
+
+    fn format_name(&self) -> &'static str {
+        match self {
+            Input::Csv(_) => "CSV",
+            Input::NpyMatrix(_) => ".npy array",
+            Input::NpyDir(_) => "directory of .npy columns",
+            Input::NpyFiles(_) => ".npy column files",
+            Input::Parquet(_) => "Parquet",
+            Input::Ipc(_) => "Arrow IPC",
+        }
+    }
+
+    /// The default output: beside the input, `<name>-toi`, in the same format.
+    fn default_output(&self) -> (PathBuf, Output) {
+        let beside = |p: &Path, ext: Option<&str>| {
+            let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+            let name = match ext {
+                Some(e) => format!("{stem}-toi.{e}"),
+                None => format!("{stem}-toi"),
+            };
+            p.with_file_name(name)
+        };
+        match self {
+            Input::Csv(p) => (beside(p, Some("csv")), Output::Csv),
+            Input::NpyMatrix(p) => (beside(p, None), Output::NpyDir),
+            Input::NpyDir(p) => {
+                let name = p.file_name().unwrap_or_default().to_string_lossy();
+                (p.with_file_name(format!("{name}-toi")), Output::NpyDir)
+            }
+            Input::NpyFiles(ps) => {
+                let dir = ps.first().and_then(|p| p.parent()).unwrap_or(Path::new(""));
+                (dir.join("toi"), Output::NpyDir)
+            }
+            Input::Parquet(p) => {
+                let ext = extension(p).unwrap_or_else(|| "parquet".into());
+                (beside(p, Some(&ext)), Output::Parquet)
+            }
+            Input::Ipc(p) => {
+                let ext = extension(p).unwrap_or_else(|| "arrow".into());
+                let stream = ext == "arrows";
+                (beside(p, Some(&ext)), Output::Ipc { stream })
+            }
+        }
+    }
+
+    fn paths(&self) -> Vec<&Path> {
+        match self {
+            Input::NpyFiles(ps) => ps.iter().map(PathBuf::as_path).collect(),
+            Input::Csv(p)
+            | Input::NpyMatrix(p)
+            | Input::NpyDir(p)
+            | Input::Parquet(p)
+            | Input::Ipc(p) => vec![p.as_path()],
+        }
+    }
+
+    fn open(&self, layout: Layout, chunk_rows: usize) -> Result<Box<dyn Source>, String> {
+        #[cfg(not(feature = "parquet"))]
+        let _ = chunk_rows;
+        Ok(match self {
+            Input::Csv(p) => Box::new(csv::CsvSource::open(p, layout)?),
+            Input::NpyMatrix(p) => Box::new(npy::NpySource::matrix(p, layout)?),
+            Input::NpyDir(p) => Box::new(npy::NpySource::directory(p, layout)?),
+            Input::NpyFiles(ps) => Box::new(npy::NpySource::files(ps, layout)?),
+            #[cfg(feature = "parquet")]
+            Input::Parquet(p) => Box::new(columnar::BatchSource::parquet(p, layout, chunk_rows)?),
+            #[cfg(feature = "parquet")]
+            Input::Ipc(p) => Box::new(columnar::BatchSource::ipc(p, layout)?),
+            #[cfg(not(feature = "parquet"))]
+            Input::Parquet(p) | Input::Ipc(p) => return Err(no_columnar(p)),
+        })
+    }
+}
+
+#[cfg(not(feature = "parquet"))]
+fn no_columnar(p: &Path) -> String {
+    format!(
+        "{}: Parquet and Arrow IPC files need the `parquet` feature of spheresweep-cli, which \
+         this build lacks: cargo build --release -p spheresweep-cli --features parquet",
+        p.display()
+    )
+}
+
+impl Output {
+    fn from_path(path: &Path) -> Result<Self, String> {
+        if path.is_dir() {
+            return Ok(Output::NpyDir);
+        }
+        match extension(path).as_deref() {
+            None => Ok(Output::NpyDir),
+            Some("csv") => Ok(Output::Csv),
+            Some("npy") => Ok(Output::NpyFile),
+            Some("parquet" | "pq") => Ok(Output::Parquet),
+            Some("arrow" | "feather" | "ipc") => Ok(Output::Ipc { stream: false }),
+            Some("arrows") => Ok(Output::Ipc { stream: true }),
+            Some(other) => Err(format!(
+                "--out {}: cannot tell the format from the extension .{other}: expected {FORMATS} \
+                 (no extension: a directory)",
+                path.display()
+            )),
+        }
+    }
+
+    fn create(self, path: &Path, columns: Vec<OutColumn>) -> Result<Box<dyn Sink>, String> {
+        Ok(match self {
+            Output::Csv => Box::new(csv::CsvSink::create(path, columns)?),
+            Output::NpyDir => Box::new(npy::NpyDirSink::create(path, &columns)?),
+            Output::NpyFile => {
+                if columns != [OutColumn::Time] {
+                    let names: Vec<&str> = columns.iter().map(|c| c.name()).collect();
+                    return Err(format!(
+                        "--out {}: one .npy array holds one column, and the results have {} \
+                         ({}): give a directory (a name without an extension) for one .npy \
+                         per column",
+                        path.display(),
+                        columns.len(),
+                        names.join(", ")
+                    ));
+                }
+                Box::new(npy::NpyFileSink::create(path)?)
+            }
+            #[cfg(feature = "parquet")]
+            Output::Parquet => Box::new(columnar::ParquetSink::create(path, columns)?),
+            #[cfg(feature = "parquet")]
+            Output::Ipc { stream } => Box::new(columnar::IpcSink::create(path, columns, stream)?),
+            #[cfg(not(feature = "parquet"))]
+            Output::Parquet | Output::Ipc { .. } => return Err(no_columnar(path)),
+        })
+    }
+}
+
+/// `n` items per second as a short figure: `41.2 million`, `930.5 thousand`.
+fn rate(n: f64, seconds: f64) -> String {
+    if seconds <= 0.0 {
+        return "-".into();
+    }
+    let r = n / seconds;
+    if r >= 1e6 {
+        format!("{:.1} million", r / 1e6)
+    } else if r >= 1e3 {
+        format!("{:.1} thousand", r / 1e3)
+    } else {
+        format!("{r:.0}")
+    }
+}
+
+/// The process's peak resident memory, where the system tells it (Linux).
+fn peak_memory_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+fn shapes_text(s: &Shapes) -> String {
+    let part = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    format!(
+        "{} ({}, {}, {})",
+        part(s.len(), "shape", "shapes"),
+        part(s.planes.len(), "plane", "planes"),
+        part(s.cylinders.len(), "cylinder", "cylinders"),
+        part(s.containers.len(), "container", "containers"),
+    )
+}
+
+pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    // Everything that can be refused is refused before any output exists.
+    let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(args.geometry);
+    if !(1..=MAX_CHUNK_ROWS).contains(&args.chunk_rows) {
+        return Err(format!(
+            "--chunk-rows {} must be between 1 and {MAX_CHUNK_ROWS}",
+            args.chunk_rows
+        )
+        .into());
+    }
+    let shapes = args.against.as_deref().map(shapes::read).transpose()?;
+    let layout = if shapes.is_some() {
+        Layout::Spheres
+    } else {
+        Layout::Pairs
+    };
+    let input = Input::detect(&args.input)?;
+    let (out_path, output) = match &args.out {
+        Some(p) => (p.clone(), Output::from_path(p)?),
+        None => input.default_output(),
+    };
+    for p in input.paths() {
+        crate::output::distinct(p, &out_path)
+            .map_err(|e| format!("the output would overwrite the input: {e}"))?;
+    }
+    let mut source = input.open(layout, args.chunk_rows)?;
+    let columns = OutColumn::of(layout, args.geometry);
+    let column_names: Vec<&str> = columns.iter().map(|c| c.name()).collect();
+    let mut sink = output.create(&out_path, columns)?;
+
+    let start = Instant::now();
+    let [mut reading, mut validating, mut querying, mut writing] = [Duration::ZERO; 4];
+    let (mut chunks, mut rows, mut contacts) = (0u64, 0u64, 0u64);
+    let mut chunk = Chunk::new(layout.columns().len());
+    let mut results = Results::default();
+    let label = input.label();
+    loop {
+        let t = Instant::now();
+        let more = source.next(args.chunk_rows, &mut chunk)?;
+        reading += t.elapsed();
+        if !more {
+            break;
+        }
+        let tally = match &shapes {
+            None => compute::pairs(&chunk, layout.columns(), options, &mut results),
+            Some(s) => compute::statics(&chunk, layout.columns(), s, options, &mut results),
+        }
+        .map_err(|e| format!("{label}: {e}"))?;
+        validating += tally.validating;
+        querying += tally.querying;
+        let t = Instant::now();
+        sink.write(&results)?;
+        writing += t.elapsed();
+        chunks += 1;
+        rows += chunk.rows() as u64;
+        contacts += tally.contacts as u64;
+    }
+    if let Some(expected) = source.total_rows()
+        && expected != rows
+    {
+        return Err(
+            format!("{label}: read {rows} rows of the {expected} the file declares").into(),
+        );
+    }
+    let written = sink.path().display().to_string();
+    let t = Instant::now();
+    sink.commit()?;
+    writing += t.elapsed();
+    let total = start.elapsed();
+
+    let per_row = shapes.as_ref().map_or(1, Shapes::len) as f64;
+    let tests = rows as f64 * per_row;
+    let mut out = std::io::stdout().lock();
+    match &shapes {
+        None => writeln!(
+            out,
+            "input       {label}: {}, {rows} pairs",
+            input.format_name()
+        )?,
+        Some(s) => writeln!(
+            out,
+            "input       {label}: {}, {rows} spheres against {}",
+            input.format_name(),
+            shapes_text(s)
+        )?,
+    }
+    writeln!(
+        out,
+        "chunks      {chunks} of at most {} rows",
+        args.chunk_rows
+    )?;
+    writeln!(
+        out,
+        "query       {} mode, t_max {}, {}",
+        args.accuracy,
+        args.t_max,
+        if args.geometry {
+            "with geometry"
+        } else {
+            "times only"
+        }
+    )?;
+    let share = if rows > 0 {
+        100.0 * contacts as f64 / rows as f64
+    } else {
+        0.0
+    };
+    writeln!(
+        out,
+        "contacts    {contacts} of {rows} {} ({share:.2}%)",
+        layout.rows_noun()
+    )?;
+    let unit = if shapes.is_some() {
+        "sphere-shape pairs/s"
+    } else {
+        "pairs/s"
+    };
+    let secs = |d: Duration| d.as_secs_f64();
+    writeln!(
+        out,
+        "time        {:.3} s: reading {:.3}, validating {:.3}, querying {:.3}, writing {:.3}",
+        secs(total),
+        secs(reading),
+        secs(validating),
+        secs(querying),
+        secs(writing)
+    )?;
+    writeln!(
+        out,
+        "throughput  {} {unit} excluding I/O (validating and querying), {} including it; {} \
+         in the queries alone",
+        rate(tests, secs(validating + querying)),
+        rate(tests, secs(total)),
+        rate(tests, secs(querying)),
+    )?;
+    if let Some(mib) = peak_memory_mib() {
+        writeln!(out, "peak memory {mib:.0} MiB")?;
+    }
+    writeln!(
+        out,
+        "output      {written}: {}, columns {}",
+        output.name(),
+        column_names.join(", ")
+    )?;
+    Ok(())
 }

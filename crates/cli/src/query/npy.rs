@@ -1,0 +1,424 @@
+//! NumPy `.npy` in and out (through `npyz`): one 1-D array per column (a directory, or
+//! several files named after their columns), or one 2-D array with a column per input column
+//! (`(N, 7)` spheres, `(N, 14)` pairs), in C or Fortran order; `f4` or `f8` (rounded to f32).
+//! Read in chunks through buffered readers, so memory stays flat whatever the file's size.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter};
+use std::path::{Path, PathBuf};
+
+use npyz::{NpyFile, NpyReader, Order, WriteOptions, WriterBuilder};
+
+use super::layout::{Chunk, Layout, OutColumn, Results, Values};
+use super::staged::{StagedDir, StagedFile};
+use super::{Sink, Source};
+
+type In = BufReader<File>;
+
+/// A typed reader of one array's elements, in file order.
+enum Elements {
+    F32(NpyReader<f32, In>),
+    F64(NpyReader<f64, In>),
+}
+
+impl Elements {
+    /// Reads `n` elements, rounding f64 to f32, and hands each to `put`.
+    fn read(&mut self, n: usize, mut put: impl FnMut(usize, f32)) -> std::io::Result<()> {
+        let eof = || std::io::Error::from(std::io::ErrorKind::UnexpectedEof);
+        match self {
+            Elements::F32(r) => {
+                for k in 0..n {
+                    put(k, r.next().ok_or_else(eof)??);
+                }
+            }
+            Elements::F64(r) => {
+                for k in 0..n {
+                    put(k, r.next().ok_or_else(eof)?? as f32);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves to element `index` (in file order).
+    fn seek_to(&mut self, index: u64) -> std::io::Result<()> {
+        match self {
+            Elements::F32(r) => r.seek_to(index),
+            Elements::F64(r) => r.seek_to(index),
+        }
+    }
+}
+
+/// An opened array: its shape, its order and a typed reader.
+struct Array {
+    shape: Vec<u64>,
+    order: Order,
+    elements: Elements,
+}
+
+/// Opens `path`, naming `what` (`column ax (dir/ax.npy)`) in messages.
+fn open_array(path: &Path, what: &str) -> Result<Array, String> {
+    let file = File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let npy = NpyFile::new(BufReader::with_capacity(1 << 20, file))
+        .map_err(|e| format!("{what}: not a readable .npy file: {e}"))?;
+    let (shape, order) = (npy.shape().to_vec(), npy.order());
+    let elements = match npy.try_data::<f32>() {
+        Ok(r) => Elements::F32(r),
+        Err(npy) => match npy.try_data::<f64>() {
+            Ok(r) => Elements::F64(r),
+            Err(npy) => {
+                return Err(format!(
+                    "{what}: dtype {} is not a float (f4 or f8)",
+                    npy.dtype().descr()
+                ));
+            }
+        },
+    };
+    Ok(Array {
+        shape,
+        order,
+        elements,
+    })
+}
+
+fn shape_text(shape: &[u64]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => {
+            let dims: Vec<String> = shape.iter().map(u64::to_string).collect();
+            format!("({})", dims.join(", "))
+        }
+    }
+}
+
+/// How the input's columns are laid out on disk.
+enum Arrays {
+    /// One reader per column, each positioned at its column's next element.
+    Columns(Vec<Elements>),
+    /// One C-order 2-D array: rows of `k` values.
+    Rows(Elements, usize),
+}
+
+/// A `.npy` input.
+pub struct NpySource {
+    what: String,
+    layout: Layout,
+    arrays: Arrays,
+    rows: u64,
+    read: u64,
+}
+
+impl NpySource {
+    /// One array per column: `files[k]` holds column `k` of the layout.
+    pub fn columns(files: &[PathBuf], layout: Layout, what: String) -> Result<Self, String> {
+        let names = layout.columns();
+        let mut readers = Vec::with_capacity(names.len());
+        let mut rows: Option<(u64, &str)> = None;
+        for (path, &name) in files.iter().zip(names) {
+            let label = format!("column {name} ({})", path.display());
+            let array = open_array(path, &label)?;
+            let [n] = array.shape[..] else {
+                return Err(format!(
+                    "{label}: shape {}, expected one dimension (N,)",
+                    shape_text(&array.shape)
+                ));
+            };
+            match rows {
+                None => rows = Some((n, name)),
+                Some((m, first)) if m != n => {
+                    return Err(format!(
+                        "{label}: {n} rows, but column {first} has {m} (every column has one \
+                         entry per row)"
+                    ));
+                }
+                _ => {}
+            }
+            readers.push(array.elements);
+        }
+        Ok(Self {
+            what,
+            layout,
+            arrays: Arrays::Columns(readers),
+            rows: rows.map_or(0, |r| r.0),
+            read: 0,
+        })
+    }
+
+    /// A directory holding `<column>.npy` for every column of the layout.
+    pub fn directory(dir: &Path, layout: Layout) -> Result<Self, String> {
+        let files: Vec<PathBuf> = layout
+            .columns()
+            .iter()
+            .map(|c| dir.join(format!("{c}.npy")))
+            .collect();
+        if let Some((missing, name)) = files
+            .iter()
+            .zip(layout.columns())
+            .find(|(f, _)| !f.is_file())
+        {
+            return Err(format!(
+                "{}: no {} (column {name}): {} as a directory holds one .npy per column: {}",
+                dir.display(),
+                missing.file_name().unwrap_or_default().to_string_lossy(),
+                layout.file_noun(),
+                layout.column_list()
+            ));
+        }
+        Self::columns(&files, layout, dir.display().to_string())
+    }
+
+    /// Files named after their columns (`ax.npy`, …), in any order.
+    pub fn files(paths: &[PathBuf], layout: Layout) -> Result<Self, String> {
+        let mut files = vec![None; layout.columns().len()];
+        for path in paths {
+            let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+            let Some(k) = layout.columns().iter().position(|c| *c == stem) else {
+                return Err(format!(
+                    "{}: {stem} is not a column of {}: {} (each file is named after its column)",
+                    path.display(),
+                    layout.file_noun(),
+                    layout.column_list()
+                ));
+            };
+            if files[k].replace(path.clone()).is_some() {
+                return Err(format!("{}: column {stem} is given twice", path.display()));
+            }
+        }
+        if let Some(k) = files.iter().position(Option::is_none) {
+            return Err(format!(
+                "no file for column {} ({}.npy): {} needs {}",
+                layout.columns()[k],
+                layout.columns()[k],
+                layout.file_noun(),
+                layout.column_list()
+            ));
+        }
+        let files: Vec<PathBuf> = files.into_iter().flatten().collect();
+        let what = paths
+            .first()
+            .and_then(|p| p.parent())
+            .map_or_else(String::new, |d| format!("{}/*.npy", d.display()));
+        Self::columns(&files, layout, what)
+    }
+
+    /// One 2-D array, `(N, 7)` for spheres or `(N, 14)` for pairs.
+    pub fn matrix(path: &Path, layout: Layout) -> Result<Self, String> {
+        let what = path.display().to_string();
+        let k = layout.columns().len();
+        let array = open_array(path, &what)?;
+        let n = match array.shape[..] {
+            [n, cols] if cols == k as u64 => n,
+            _ => {
+                return Err(format!(
+                    "{what}: shape {}, expected (N, {k}) for {}: columns {}",
+                    shape_text(&array.shape),
+                    layout.file_noun(),
+                    layout.column_list()
+                ));
+            }
+        };
+        let arrays = match array.order {
+            Order::C => Arrays::Rows(array.elements, k),
+            Order::Fortran => {
+                // Column-major: each column is a run of N elements; one reader per column.
+                let mut readers = vec![array.elements];
+                for j in 1..k {
+                    let mut r = open_array(path, &what)?.elements;
+                    r.seek_to(j as u64 * n)
+                        .map_err(|e| format!("cannot read {what}: {e}"))?;
+                    readers.push(r);
+                }
+                Arrays::Columns(readers)
+            }
+        };
+        Ok(Self {
+            what,
+            layout,
+            arrays,
+            rows: n,
+            read: 0,
+        })
+    }
+}
+
+impl Source for NpySource {
+    fn next(&mut self, max: usize, chunk: &mut Chunk) -> Result<bool, String> {
+        chunk.clear(self.read);
+        let n = (self.rows - self.read).min(max as u64) as usize;
+        if n == 0 {
+            return Ok(false);
+        }
+        let truncated = |e: std::io::Error, column: &str| {
+            if e.kind() == std::io::ErrorKind::UnexpectedEof {
+                format!(
+                    "{}: column {column} ends before its {} rows (the file is truncated)",
+                    self.what, self.rows
+                )
+            } else {
+                format!("cannot read {}: {e}", self.what)
+            }
+        };
+        let names = self.layout.columns();
+        match &mut self.arrays {
+            Arrays::Columns(readers) => {
+                for ((r, col), name) in readers.iter_mut().zip(&mut chunk.columns).zip(names) {
+                    col.reserve(n);
+                    r.read(n, |_, v| col.push(v))
+                        .map_err(|e| truncated(e, name))?;
+                }
+            }
+            Arrays::Rows(r, k) => {
+                let k = *k;
+                chunk.columns.iter_mut().for_each(|c| c.reserve(n));
+                let columns = &mut chunk.columns;
+                r.read(n * k, |i, v| columns[i % k].push(v))
+                    .map_err(|e| truncated(e, names[0]))?;
+            }
+        }
+        self.read += n as u64;
+        Ok(true)
+    }
+
+    fn total_rows(&self) -> Option<u64> {
+        Some(self.rows)
+    }
+}
+
+type Out = BufWriter<File>;
+
+/// A typed writer of one 1-D result array.
+enum ColumnWriter {
+    F32(npyz::NpyWriter<f32, Out>),
+    F64(npyz::NpyWriter<f64, Out>),
+    U8(npyz::NpyWriter<u8, Out>),
+    I64(npyz::NpyWriter<i64, Out>),
+}
+
+impl ColumnWriter {
+    /// A 1-D array whose length is written when it is finished.
+    fn begin(file: &File, column: OutColumn) -> std::io::Result<Self> {
+        let out = BufWriter::with_capacity(1 << 20, file.try_clone()?);
+        Ok(match column.ty() {
+            super::layout::OutType::F32 => {
+                ColumnWriter::F32(WriteOptions::new().default_dtype().writer(out).begin_1d()?)
+            }
+            super::layout::OutType::F64 => {
+                ColumnWriter::F64(WriteOptions::new().default_dtype().writer(out).begin_1d()?)
+            }
+            super::layout::OutType::U8 => {
+                ColumnWriter::U8(WriteOptions::new().default_dtype().writer(out).begin_1d()?)
+            }
+            super::layout::OutType::I64 => {
+                ColumnWriter::I64(WriteOptions::new().default_dtype().writer(out).begin_1d()?)
+            }
+        })
+    }
+
+    fn write(&mut self, values: Values<'_>) -> std::io::Result<()> {
+        match (self, values) {
+            (ColumnWriter::F32(w), Values::F32(v)) => w.extend(v.iter().copied()),
+            (ColumnWriter::F64(w), Values::F64(v)) => w.extend(v.iter().copied()),
+            (ColumnWriter::U8(w), Values::U8(v)) => w.extend(v.iter().copied()),
+            (ColumnWriter::I64(w), Values::I64(v)) => w.extend(v.iter().copied()),
+            _ => Err(std::io::Error::other("a result column changed type")),
+        }
+    }
+
+    /// Writes the length into the header and flushes.
+    fn finish(self) -> std::io::Result<()> {
+        match self {
+            ColumnWriter::F32(w) => w.finish(),
+            ColumnWriter::F64(w) => w.finish(),
+            ColumnWriter::U8(w) => w.finish(),
+            ColumnWriter::I64(w) => w.finish(),
+        }
+    }
+}
+
+/// Results as a directory of 1-D `.npy` arrays, one per result column.
+pub struct NpyDirSink {
+    staged: StagedDir,
+    columns: Vec<(OutColumn, File, ColumnWriter)>,
+}
+
+impl NpyDirSink {
+    /// Starts `<column>.npy` for every result column in the staged directory.
+    pub fn create(path: &Path, columns: &[OutColumn]) -> Result<Self, String> {
+        let staged = StagedDir::create(path)?;
+        let mut open = Vec::with_capacity(columns.len());
+        for &c in columns {
+            let file = staged.create_file(&format!("{}.npy", c.name()))?;
+            let writer = ColumnWriter::begin(&file, c).map_err(|e| staged.error(e))?;
+            open.push((c, file, writer));
+        }
+        Ok(Self {
+            staged,
+            columns: open,
+        })
+    }
+}
+
+impl Sink for NpyDirSink {
+    fn write(&mut self, results: &Results) -> Result<(), String> {
+        for (c, _, w) in &mut self.columns {
+            w.write(results.values(*c))
+                .map_err(|e| self.staged.error(e))?;
+        }
+        Ok(())
+    }
+
+    fn commit(self: Box<Self>) -> Result<(), String> {
+        let Self { staged, columns } = *self;
+        for (_, file, w) in columns {
+            w.finish().map_err(|e| staged.error(e))?;
+            file.sync_all().map_err(|e| staged.error(e))?;
+        }
+        staged.commit()
+    }
+
+    fn path(&self) -> &Path {
+        self.staged.path()
+    }
+}
+
+/// Results as one 1-D `.npy` array: only when the only result column is `time`.
+pub struct NpyFileSink {
+    staged: StagedFile,
+    writer: Option<npyz::NpyWriter<f32, Out>>,
+}
+
+impl NpyFileSink {
+    /// Starts the array under its temporary name.
+    pub fn create(path: &Path) -> Result<Self, String> {
+        let staged = StagedFile::create(path)?;
+        let writer = WriteOptions::new()
+            .default_dtype()
+            .writer(staged.writer()?)
+            .begin_1d()
+            .map_err(|e| staged.error(e))?;
+        Ok(Self {
+            staged,
+            writer: Some(writer),
+        })
+    }
+}
+
+impl Sink for NpyFileSink {
+    fn write(&mut self, results: &Results) -> Result<(), String> {
+        let w = self.writer.as_mut().ok_or("finished")?;
+        w.extend(results.time.iter().copied())
+            .map_err(|e| self.staged.error(e))
+    }
+
+    fn commit(self: Box<Self>) -> Result<(), String> {
+        let Self { staged, writer } = *self;
+        if let Some(w) = writer {
+            w.finish().map_err(|e| staged.error(e))?;
+        }
+        staged.commit()
+    }
+
+    fn path(&self) -> &Path {
+        self.staged.path()
+    }
+}
