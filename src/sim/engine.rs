@@ -288,9 +288,12 @@ pub(crate) struct Engine<
     stall_limit: u64,
     window_start: f64,
     min_progress: f64,
-    /// Test-only: check the prediction invariant after every event.
+    /// Test-only: check the prediction invariant after every event, against each sphere's
+    /// time in the calendar (`+∞` while it has none).
     #[cfg(test)]
     pub checking: bool,
+    #[cfg(test)]
+    scheduled: Vec<f64>,
     /// Each internal index's public sphere index: spheres are renumbered in cell order every
     /// `reorder_every` events, so that neighbours sit close in memory.
     pub id_of: Vec<u32>,
@@ -326,6 +329,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             min_progress: 0.0,
             #[cfg(test)]
             checking: false,
+            #[cfg(test)]
+            scheduled: vec![f64::INFINITY; n],
             id_of: (0..n as u32).collect(),
             reorder_every: 32 * n as u64 + 1024,
             since_reorder: 0,
@@ -394,6 +399,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                         events: self.same_time,
                     });
                 }
+            }
+            #[cfg(test)]
+            {
+                self.scheduled[e.sphere as usize] = f64::INFINITY;
             }
             self.step(e.sphere);
             #[cfg(test)]
@@ -508,6 +517,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.stats.max_overlap = self.stats.max_overlap.max(overlap);
         let mut out = std::mem::take(&mut self.outcome).cleared();
         self.responder.pair(&mut self.m, i, j, dr, now, &mut out);
+        // This event consumed `i`'s calendar entry: `i` is predicted again even when its
+        // velocity did not change (a cluster stuck to a shape has infinite mass).
+        if !out.changed.contains(&i) {
+            out.changed.push(i);
+        }
         self.stats.pair_collisions += 1;
         self.account(&out);
         if let Some(log) = &mut self.log {
@@ -576,6 +590,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let v = &mut self.version[i as usize];
         *v = v.wrapping_add(1);
         let t = self.best[i as usize].time();
+        #[cfg(test)]
+        {
+            self.scheduled[i as usize] = t;
+        }
         if t.is_finite() {
             self.queue.push(Entry {
                 t,
@@ -807,7 +825,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                     dr -= len * (dr / len).round();
                 }
                 let t = refine([dr; 4], [bj.v - bi.v; 4], [bi.radius + bj.radius; 4])[0];
-                let (ti, tj) = (self.best[i].time(), self.best[j].time());
+                let (ti, tj) = (self.scheduled[i], self.scheduled[j]);
                 assert!(
                     self.now + t >= ti.min(tj) - 1e-9 || t.is_nan(),
                     "after the event of sphere {s} at t = {}: spheres {i} and {j} meet at {} but their next events are at {ti} and {tj}",

@@ -826,6 +826,53 @@ mod tests {
             sim.advance_to(t).unwrap();
             assert!(sim.stats().pair_collisions > 1000, "{n}: {:?}", sim.stats());
         }
+        // Walls and clusters: a sticky and inelastic mix in a container, then clusters stuck to
+        // a floor (infinite mass) hit by free spheres.
+        let floor = Fixed {
+            shape: crate::Plane::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]).unwrap(),
+            material: 1,
+        };
+        let inside = |p: DVec3| p.length() < 3.4 && p.z > -1.5;
+        let mut spheres = generate::random_spheres(
+            DVec3::splat(-3.5),
+            DVec3::splat(3.5),
+            &inside,
+            70,
+            0.4,
+            1.0,
+            0,
+            8,
+        )
+        .unwrap();
+        for s in spheres.iter_mut().step_by(2) {
+            s.material = 1;
+        }
+        let w = World {
+            spheres,
+            planes: vec![floor],
+            containers: vec![Fixed {
+                shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
+                material: 0,
+            }],
+            materials: vec!["glass".into(), "glue".into()],
+            effects: Effects {
+                pairs: vec![MaterialPair {
+                    a: 1,
+                    b: 1,
+                    response: Response::Sticky,
+                }],
+                ..Effects::default()
+            },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(w).unwrap();
+        sim.engine.set_checking();
+        sim.advance_to(40.0).unwrap();
+        assert!(
+            sim.stats().joins > 10 && sim.stats().pair_collisions > 500,
+            "{:?}",
+            sim.stats()
+        );
         // Walls and clusters: a sticky and inelastic mix in a container.
         let inside = |p: DVec3| p.length() < 3.4;
         let mut spheres = generate::random_spheres(
