@@ -4,7 +4,7 @@
 //! Read in chunks through buffered readers, so memory stays flat whatever the file's size.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter};
+use std::io::{BufReader, BufWriter, Read};
 use std::path::{Path, PathBuf};
 
 use npyz::{NpyFile, NpyReader, Order, WriteOptions, WriterBuilder};
@@ -15,8 +15,18 @@ use super::{Sink, Source};
 
 type In = BufReader<File>;
 
-/// A typed reader of one array's elements, in file order.
+/// A reader of one array's elements, in file order: little-endian floats (what NumPy writes
+/// on every common machine) straight from the bytes, anything else through `npyz`'s typed
+/// readers.
 enum Elements {
+    /// Little-endian `f4` (`wide == false`) or `f8`, read in blocks of bytes.
+    Raw {
+        reader: In,
+        wide: bool,
+        /// The element the reader is at.
+        at: u64,
+        bytes: Vec<u8>,
+    },
     F32(NpyReader<f32, In>),
     F64(NpyReader<f64, In>),
 }
@@ -26,6 +36,33 @@ impl Elements {
     fn read(&mut self, n: usize, mut put: impl FnMut(usize, f32)) -> std::io::Result<()> {
         let eof = || std::io::Error::from(std::io::ErrorKind::UnexpectedEof);
         match self {
+            Elements::Raw {
+                reader,
+                wide,
+                at,
+                bytes,
+            } => {
+                // A block of at most 64 Ki elements at a time: a bounded buffer.
+                let size = if *wide { 8 } else { 4 };
+                let mut k = 0;
+                while k < n {
+                    let m = (n - k).min(1 << 16);
+                    bytes.resize(m * size, 0);
+                    reader.read_exact(bytes)?;
+                    if *wide {
+                        for (j, b) in bytes.chunks_exact(8).enumerate() {
+                            let v = f64::from_le_bytes(b.try_into().map_err(|_| eof())?);
+                            put(k + j, v as f32);
+                        }
+                    } else {
+                        for (j, b) in bytes.chunks_exact(4).enumerate() {
+                            put(k + j, f32::from_le_bytes(b.try_into().map_err(|_| eof())?));
+                        }
+                    }
+                    k += m;
+                }
+                *at += n as u64;
+            }
             Elements::F32(r) => {
                 for k in 0..n {
                     put(k, r.next().ok_or_else(eof)??);
@@ -40,9 +77,63 @@ impl Elements {
         Ok(())
     }
 
-    /// Moves to element `index` (in file order).
+    /// Reads `n` rows of `columns.len()` elements (a C-order 2-D array), one into each column.
+    fn read_rows(&mut self, n: usize, columns: &mut [Vec<f32>]) -> std::io::Result<()> {
+        let k = columns.len();
+        let Elements::Raw {
+            reader,
+            wide,
+            at,
+            bytes,
+        } = self
+        else {
+            let mut j = 0;
+            return self.read(n * k, |_, v| {
+                columns[j].push(v);
+                j = if j + 1 == k { 0 } else { j + 1 };
+            });
+        };
+        let size = if *wide { 8 } else { 4 };
+        let mut done = 0;
+        while done < n {
+            let m = (n - done).min((1 << 16) / k.max(1)).max(1);
+            bytes.resize(m * k * size, 0);
+            reader.read_exact(bytes)?;
+            // Column by column over the block (it stays in cache): each column is extended
+            // by an exact-size iterator rather than pushed to element by element.
+            for (j, column) in columns.iter_mut().enumerate() {
+                let rows = bytes.chunks_exact(k * size);
+                if *wide {
+                    column.extend(rows.map(|row| {
+                        let b = &row[j * 8..j * 8 + 8];
+                        f64::from_le_bytes(b.try_into().unwrap_or([0; 8])) as f32
+                    }));
+                } else {
+                    column.extend(rows.map(|row| {
+                        let b = &row[j * 4..j * 4 + 4];
+                        f32::from_le_bytes(b.try_into().unwrap_or([0; 4]))
+                    }));
+                }
+            }
+            done += m;
+        }
+        *at += (n * k) as u64;
+        Ok(())
+    }
+
+    /// Moves to element `index` (in file order; at most the array's length).
     fn seek_to(&mut self, index: u64) -> std::io::Result<()> {
         match self {
+            Elements::Raw {
+                reader, wide, at, ..
+            } => {
+                let size: i64 = if *wide { 8 } else { 4 };
+                let delta = i64::try_from(index).unwrap_or(i64::MAX)
+                    - i64::try_from(*at).unwrap_or(i64::MAX);
+                reader.seek_relative(delta.saturating_mul(size))?;
+                *at = index;
+                Ok(())
+            }
             Elements::F32(r) => r.seek_to(index),
             Elements::F64(r) => r.seek_to(index),
         }
@@ -61,17 +152,22 @@ fn open_array(path: &Path, what: &str) -> Result<Array, String> {
     let file = File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let npy = NpyFile::new(BufReader::with_capacity(1 << 20, file))
         .map_err(|e| format!("{what}: not a readable .npy file: {e}"))?;
-    let (shape, order) = (npy.shape().to_vec(), npy.order());
-    let elements = match npy.try_data::<f32>() {
-        Ok(r) => Elements::F32(r),
-        Err(npy) => match npy.try_data::<f64>() {
-            Ok(r) => Elements::F64(r),
-            Err(npy) => {
-                return Err(format!(
-                    "{what}: dtype {} is not a float (f4 or f8)",
-                    npy.dtype().descr()
-                ));
-            }
+    let (shape, order, descr) = (npy.shape().to_vec(), npy.order(), npy.dtype().descr());
+    let elements = match descr.as_str() {
+        "'<f4'" | "'<f8'" => Elements::Raw {
+            wide: descr == "'<f8'",
+            reader: npy.into_inner(),
+            at: 0,
+            bytes: Vec::new(),
+        },
+        _ => match npy.try_data::<f32>() {
+            Ok(r) => Elements::F32(r),
+            Err(npy) => match npy.try_data::<f64>() {
+                Ok(r) => Elements::F64(r),
+                Err(_) => {
+                    return Err(format!("{what}: dtype {descr} is not a float (f4 or f8)"));
+                }
+            },
         },
     };
     Ok(Array {
@@ -95,8 +191,8 @@ fn shape_text(shape: &[u64]) -> String {
 enum Arrays {
     /// One reader per column, each positioned at its column's next element.
     Columns(Vec<Elements>),
-    /// One C-order 2-D array: rows of `k` values.
-    Rows(Elements, usize),
+    /// One C-order 2-D array: a row holds a value of every column.
+    Rows(Elements),
 }
 
 /// A `.npy` input.
@@ -218,7 +314,7 @@ impl NpySource {
             }
         };
         let arrays = match array.order {
-            Order::C => Arrays::Rows(array.elements, k),
+            Order::C => Arrays::Rows(array.elements),
             Order::Fortran => {
                 // Column-major: each column is a run of N elements; one reader per column.
                 let mut readers = vec![array.elements];
@@ -267,11 +363,9 @@ impl Source for NpySource {
                         .map_err(|e| truncated(e, name))?;
                 }
             }
-            Arrays::Rows(r, k) => {
-                let k = *k;
+            Arrays::Rows(r) => {
                 chunk.columns.iter_mut().for_each(|c| c.reserve(n));
-                let columns = &mut chunk.columns;
-                r.read(n * k, |i, v| columns[i % k].push(v))
+                r.read_rows(n, &mut chunk.columns)
                     .map_err(|e| truncated(e, names[0]))?;
             }
         }
