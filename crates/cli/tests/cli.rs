@@ -2023,6 +2023,55 @@ radius = 20.0
             std::fs::remove_dir_all(&dir).ok();
         }
 
+        /// A Parquet file twenty times the chunk, in row groups of 50 000 rows: the peak
+        /// memory stays far below that of the whole file in one chunk, and the results are
+        /// the same.
+        #[test]
+        fn a_parquet_file_larger_than_the_chunk_is_streamed_with_flat_memory() {
+            let dir = scratch("query-parquet-memory");
+            let rows = pair_rows(400_000, 18);
+            let input = dir.join("big.parquet");
+            write_parquet(
+                &input,
+                &table(&PAIR_COLUMNS, &rows, false),
+                Compression::SNAPPY,
+                50_000,
+            );
+            let run = |chunk: &str, out: &str| -> (f64, String) {
+                let out = dir.join(out);
+                let stdout = query(&[
+                    path_str(&input),
+                    "--chunk-rows",
+                    chunk,
+                    "--out",
+                    path_str(&out),
+                ]);
+                let peak = summary(&stdout, "peak memory")
+                    .split_whitespace()
+                    .nth(2)
+                    .unwrap()
+                    .parse()
+                    .unwrap();
+                (peak, stdout)
+            };
+            let (whole, _) = run("1048576", "whole.parquet");
+            let (streamed, stdout) = run("20000", "streamed.parquet");
+            assert_eq!(
+                summary(&stdout, "chunks"),
+                "chunks      20 of at most 20000 rows"
+            );
+            assert!(
+                streamed + 30.0 < whole,
+                "streamed {streamed} MiB, whole {whole} MiB"
+            );
+            let (times, _) = library_pairs(&rows, QueryOptions::default());
+            for name in ["whole.parquet", "streamed.parquet"] {
+                let (out, _) = read_parquet(&dir.join(name));
+                assert_eq!(bits(&f32_column(&out, "time")), bits(&times), "{name}");
+            }
+            std::fs::remove_dir_all(&dir).ok();
+        }
+
         #[test]
         fn nulls_and_wrong_types_in_parquet_are_named() {
             let dir = scratch("query-parquet-bad");
