@@ -96,6 +96,24 @@ pub trait Sink {
     fn path(&self) -> &Path;
 }
 
+/// Runs `f`, turning a panic inside a third-party reader into an error naming `what` (the
+/// last resort: inputs are checked before they are read, and the readers report errors as
+/// values). The panic message is not printed.
+pub(crate) fn guarded<T>(what: &str, f: impl FnOnce() -> T) -> Result<T, String> {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    std::panic::set_hook(hook);
+    result.map_err(|panic| {
+        let message = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        format!("cannot read {what}: the reader failed: {message}")
+    })
+}
+
 /// What the input is, from its path(s).
 #[derive(Debug, Clone, PartialEq)]
 enum Input {

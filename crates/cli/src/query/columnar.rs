@@ -9,7 +9,6 @@
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read};
-use std::panic::AssertUnwindSafe;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -28,7 +27,7 @@ use parquet::file::properties::WriterProperties;
 
 use super::layout::{Chunk, Layout, OutColumn, OutType, Results, Values};
 use super::staged::{StagedFile, finish_writer};
-use super::{Sink, Source};
+use super::{Sink, Source, guarded};
 
 /// The codecs this build decodes, and the cargo feature of `parquet` another one needs.
 fn missing_codec(c: Compression) -> Option<(&'static str, &'static str)> {
@@ -41,23 +40,6 @@ fn missing_codec(c: Compression) -> Option<(&'static str, &'static str)> {
         Compression::ZSTD(_) => Some(("ZSTD", "zstd")),
         Compression::LZO => Some(("LZO", "none: parquet has no LZO decoder")),
     }
-}
-
-/// Runs `f`, turning a panic inside a reader into an error (the last resort: the codecs are
-/// checked before reading, and the readers report errors as values).
-fn guarded<T>(what: &str, f: impl FnOnce() -> T) -> Result<T, String> {
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let result = std::panic::catch_unwind(AssertUnwindSafe(f));
-    std::panic::set_hook(hook);
-    result.map_err(|panic| {
-        let message = panic
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| panic.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "no message".into());
-        format!("cannot read {what}: the reader failed: {message}")
-    })
 }
 
 /// Checks that every column of the layout is in `schema` as a float column.

@@ -11,7 +11,7 @@ use npyz::{NpyFile, NpyReader, Order, WriteOptions, WriterBuilder};
 
 use super::layout::{Chunk, Layout, OutColumn, Results, Values};
 use super::staged::{StagedDir, StagedFile};
-use super::{Sink, Source};
+use super::{Sink, Source, guarded};
 
 type In = BufReader<File>;
 
@@ -150,8 +150,11 @@ struct Array {
 /// Opens `path`, naming `what` (`column ax (dir/ax.npy)`) in messages.
 fn open_array(path: &Path, what: &str) -> Result<Array, String> {
     let file = File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let npy = NpyFile::new(BufReader::with_capacity(1 << 20, file))
-        .map_err(|e| format!("{what}: not a readable .npy file: {e}"))?;
+    // npyz parses the header; a header it cannot take is an error, never a panic.
+    let npy = guarded(what, || {
+        NpyFile::new(BufReader::with_capacity(1 << 20, file))
+    })?
+    .map_err(|e| format!("{what}: not a readable .npy file: {e}"))?;
     let (shape, order, descr) = (npy.shape().to_vec(), npy.order(), npy.dtype().descr());
     let elements = match descr.as_str() {
         "'<f4'" | "'<f8'" => Elements::Raw {
@@ -344,10 +347,11 @@ impl Source for NpySource {
         if n == 0 {
             return Ok(false);
         }
-        let truncated = |e: std::io::Error, column: &str| {
+        let truncated = |e: std::io::Error, column: Option<&str>| {
             if e.kind() == std::io::ErrorKind::UnexpectedEof {
+                let what = column.map_or("the array".to_string(), |c| format!("column {c}"));
                 format!(
-                    "{}: column {column} ends before its {} rows (the file is truncated)",
+                    "{}: {what} ends before its {} rows (the file is truncated)",
                     self.what, self.rows
                 )
             } else {
@@ -360,13 +364,13 @@ impl Source for NpySource {
                 for ((r, col), name) in readers.iter_mut().zip(&mut chunk.columns).zip(names) {
                     col.reserve(n);
                     r.read(n, |_, v| col.push(v))
-                        .map_err(|e| truncated(e, name))?;
+                        .map_err(|e| truncated(e, Some(name)))?;
                 }
             }
             Arrays::Rows(r) => {
                 chunk.columns.iter_mut().for_each(|c| c.reserve(n));
                 r.read_rows(n, &mut chunk.columns)
-                    .map_err(|e| truncated(e, names[0]))?;
+                    .map_err(|e| truncated(e, None))?;
             }
         }
         self.read += n as u64;
