@@ -893,12 +893,23 @@ radius = 20.0
             Cylinder::new([-3.0, 0.0, 1.0], [-3.0, 1.0, 1.0], 1.0).unwrap(),
         ];
         let containers = [Container::new([0.0; 3], 20.0).unwrap()];
+        library_statics_of(rows, options, &planes, &cylinders, &containers)
+    }
+
+    /// The library's answer for spheres against any shapes.
+    fn library_statics_of(
+        rows: &[[f32; 7]],
+        options: QueryOptions,
+        planes: &[Plane],
+        cylinders: &[Cylinder],
+        containers: &[Container],
+    ) -> Vec<(f32, u8, i64, [f64; 6])> {
         let store = SphereStore::from_spheres(&rows.iter().map(|r| sphere(r)).collect::<Vec<_>>());
         let options = options.with_geometry(true);
         let kinds = [
-            (1u8, earliest_static_contacts(&store, &planes, options)),
-            (2, earliest_static_contacts(&store, &cylinders, options)),
-            (3, earliest_static_contacts(&store, &containers, options)),
+            (1u8, earliest_static_contacts(&store, planes, options)),
+            (2, earliest_static_contacts(&store, cylinders, options)),
+            (3, earliest_static_contacts(&store, containers, options)),
         ];
         (0..rows.len())
             .map(|i| {
@@ -1261,6 +1272,107 @@ radius = 20.0
             summary(&stdout, "input").contains("2500 spheres against"),
             "{stdout}"
         );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// Many shapes of each kind (the CLI answers them through `earliest_static_contacts`, few
+    /// through `static_times` one by one): the same bits, ties to the lowest index.
+    #[test]
+    fn many_shapes_of_a_kind_agree_with_the_library() {
+        let dir = scratch("query-many-shapes");
+        let mut rng = Rng::new(21);
+        let mut v = |lo: f64, hi: f64| rng.range(lo, hi) as f32;
+        let mut toml = String::new();
+        let (mut planes, mut cylinders, mut containers) = (Vec::new(), Vec::new(), Vec::new());
+        for k in 0..7 {
+            // Planes 5 and 6 repeat planes 0 and 1: ties go to the lower index.
+            let (p, n) = if k >= 5 {
+                planes[k - 5]
+            } else {
+                (
+                    [v(-9.0, 9.0), v(-9.0, 9.0), v(-9.0, 9.0)],
+                    [v(-1.0, 1.0), v(-1.0, 1.0), v(0.1, 1.0)],
+                )
+            };
+            planes.push((p, n));
+            toml.push_str(&format!("[[plane]]\npoint = {p:?}\nnormal = {n:?}\n\n"));
+        }
+        for _ in 0..6 {
+            let (p1, p2, r) = (
+                [v(-8.0, 8.0), v(-8.0, 8.0), 0.0],
+                [v(-8.0, 8.0), v(-8.0, 8.0), 5.0],
+                v(0.1, 2.0),
+            );
+            cylinders.push((p1, p2, r));
+            toml.push_str(&format!(
+                "[[cylinder]]\np1 = {p1:?}\np2 = {p2:?}\nradius = {r:?}\n\n"
+            ));
+        }
+        for _ in 0..5 {
+            let (c, r) = ([v(-1.0, 1.0), v(-1.0, 1.0), v(-1.0, 1.0)], v(15.0, 25.0));
+            containers.push((c, r));
+            toml.push_str(&format!(
+                "[[container]]\ncentre = {c:?}\nradius = {r:?}\n\n"
+            ));
+        }
+        let shapes = dir.join("many.toml");
+        std::fs::write(&shapes, toml).unwrap();
+        let rows = sphere_rows(4000, 22);
+        let input = dir.join("s.csv");
+        write_csv(&input, &SPHERE_COLUMNS, &rows);
+        let planes: Vec<Plane> = planes
+            .iter()
+            .map(|&(p, n)| Plane::new(p, n).unwrap())
+            .collect();
+        let cylinders: Vec<Cylinder> = cylinders
+            .iter()
+            .map(|&(a, b, r)| Cylinder::new(a, b, r).unwrap())
+            .collect();
+        let containers: Vec<Container> = containers
+            .iter()
+            .map(|&(c, r)| Container::new(c, r).unwrap())
+            .collect();
+        for mode in Accuracy::ALL {
+            let out = dir.join(format!("{mode}.csv"));
+            query(&[
+                path_str(&input),
+                "--against",
+                path_str(&shapes),
+                "--accuracy",
+                mode.name(),
+                "--t-max",
+                "10",
+                "--geometry",
+                "--out",
+                path_str(&out),
+            ]);
+            let options = QueryOptions::new(10.0, mode).unwrap();
+            let want = library_statics_of(&rows, options, &planes, &cylinders, &containers);
+            let (_, columns) = read_csv(&out);
+            let times: Vec<f32> = want.iter().map(|w| w.0).collect();
+            assert_eq!(bits(&parse::<f32>(&columns[0])), bits(&times), "{mode}");
+            let indices: Vec<i64> = want.iter().map(|w| w.2).collect();
+            assert_eq!(parse::<i64>(&columns[2]), indices, "{mode}");
+            for k in 0..6 {
+                let g: Vec<f64> = want.iter().map(|w| w.3[k]).collect();
+                assert_eq!(
+                    bits64(&parse::<f64>(&columns[3 + k])),
+                    bits64(&g),
+                    "{mode} {k}"
+                );
+            }
+            let kinds: Vec<&str> = columns[1].iter().map(String::as_str).collect();
+            for kind in ["plane", "cylinder", "container"] {
+                assert!(kinds.contains(&kind), "{mode}: no {kind} hit");
+            }
+            assert!(
+                kinds
+                    .iter()
+                    .zip(&indices)
+                    .all(|(k, &i)| *k != "plane" || i < 5),
+                "{mode}: a repeated plane won a tie"
+            );
+        }
         std::fs::remove_dir_all(&dir).ok();
     }
 

@@ -1,14 +1,14 @@
 //! One chunk of rows through the library: validated into stores by its constructors
 //! (`SphereStore::from_columns`), then queried by the batch entry points (`zip_times` for
-//! pairs, `earliest_static_contacts` for spheres against shapes), with the contact geometry
-//! from `contact::contact_at`.
+//! pairs; `static_times` per shape, or `earliest_static_contacts` for a kind with many shapes,
+//! for spheres against shapes), with the contact geometry from `contact::contact_at`.
 
 use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use spheresweep::batch::{StaticShape, earliest_static_contacts, zip_times};
+use spheresweep::batch::{StaticShape, earliest_static_contacts, static_times, zip_times};
 use spheresweep::contact::{Contact, contact_at};
 use spheresweep::store::Columns;
 use spheresweep::{
@@ -192,25 +192,45 @@ pub fn pairs(
 /// The earliest contact so far of each sphere of a block: time, kind code, index.
 type Best = (f32, u8, u32);
 
-/// Offers the contacts of one kind to `best` (kinds offered in tie order: a later kind wins
-/// only at a strictly earlier time, as the library's first-contact queries break ties).
+/// Shapes of one kind up to which each shape is answered by `static_times` into a reused
+/// buffer of times; more go through `earliest_static_contacts`, whose lane groups skip the
+/// shapes they cannot reach but which returns a 128-byte record per sphere. Both give the same
+/// bits: the same kernels, and the same rule (the earliest, then the lowest index).
+const ONE_BY_ONE: usize = 4;
+
+/// Offers the contacts of one kind to `best` (kinds offered in tie order: a later kind, or a
+/// later shape of a kind, wins only at a strictly earlier time, as the library's first-contact
+/// queries break ties).
 fn offer<K: StaticShape>(
     store: &SphereStore,
     shapes: &[K],
     options: QueryOptions,
     best: &mut [Best],
-) {
-    if shapes.is_empty() {
-        return;
+    times: &mut Vec<f32>,
+) -> Result<(), String> {
+    let options = options.with_geometry(false);
+    let code = kind_code(K::KIND);
+    if shapes.len() <= ONE_BY_ONE {
+        times.resize(store.len(), 0.0);
+        for (j, shape) in (0u32..).zip(shapes) {
+            static_times(store, shape, options, times).map_err(|e| e.to_string())?;
+            for (slot, &t) in best.iter_mut().zip(times.iter()) {
+                if t < slot.0 {
+                    *slot = (t, code, j);
+                }
+            }
+        }
+        return Ok(());
     }
-    let hits = earliest_static_contacts(store, shapes, options.with_geometry(false));
+    let hits = earliest_static_contacts(store, shapes, options);
     for (slot, hit) in best.iter_mut().zip(hits) {
         if let Some(h) = hit
             && h.time < slot.0
         {
-            *slot = (h.time, kind_code(K::KIND), h.body.index);
+            *slot = (h.time, code, h.body.index);
         }
     }
+    Ok(())
 }
 
 /// Every sphere of a spheres chunk (`names` its 7 columns) against every shape: the earliest
@@ -229,12 +249,13 @@ pub fn statics(
     let validated = Instant::now();
     out.clear();
     let mut best = Vec::with_capacity(BLOCK.min(n));
+    let mut times = Vec::with_capacity(BLOCK.min(n));
     for (range, store) in &stores {
         best.clear();
         best.resize(range.len(), (f32::INFINITY, KIND_NONE, 0));
-        offer(store, &shapes.planes, options, &mut best);
-        offer(store, &shapes.cylinders, options, &mut best);
-        offer(store, &shapes.containers, options, &mut best);
+        offer(store, &shapes.planes, options, &mut best, &mut times)?;
+        offer(store, &shapes.cylinders, options, &mut best, &mut times)?;
+        offer(store, &shapes.containers, options, &mut best, &mut times)?;
         for (i, &(time, kind, index)) in best.iter().enumerate() {
             let hit = time.is_finite();
             out.time.push(time);
