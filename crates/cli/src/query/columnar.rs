@@ -149,7 +149,24 @@ impl BatchSource {
         };
         check_schema(&what, &reader.schema(), layout)?;
         let label = what.clone();
-        let batches = reader.map(move |b| b.map_err(|e| format!("cannot read {label}: {e}")));
+        let batches = reader.map(move |b| {
+            b.map_err(|e| {
+                let text = e.to_string();
+                // arrow-ipc is built without its lz4 and zstd features: say so plainly.
+                match ["lz4", "zstd"]
+                    .into_iter()
+                    .find(|c| text.contains(&format!("requires the {c} feature")))
+                {
+                    Some(codec) => format!(
+                        "{label}: the record batches are compressed with {}, which this build \
+                         cannot decode (it reads uncompressed Arrow IPC): rewrite the file \
+                         uncompressed",
+                        codec.to_uppercase()
+                    ),
+                    None => format!("cannot read {label}: {text}"),
+                }
+            })
+        });
         Ok(Self {
             what,
             layout,
