@@ -697,21 +697,16 @@ fn check_start(m: &Motion, cells: &Cells, periodic: bool, walls: &Walls) -> Resu
 mod tests {
     use super::*;
 
-    /// A run restored from a checkpoint ends bit for bit where the uninterrupted run ends: the
-    /// gas, a sticky and inelastic mix with clusters in a container (renumbering in between),
-    /// and report-only; a damaged checkpoint or another world is refused, never a panic.
-    #[test]
-    fn checkpoints_resume_bit_for_bit() {
-        let mut worlds = Vec::new();
-        let mut gas = World::default();
-        generate::periodic_gas(&mut gas, 500, 0.35, 0.5, 1.0, 4).unwrap();
-        worlds.push((gas.clone(), 3.0));
+    /// `n` spheres placed at random in a container of radius 4, every third of material 1,
+    /// which sticks to its own kind; every other collision is inelastic with restitution `e`
+    /// and the TC model.
+    fn sticky_mix(n: usize, e: f64) -> World {
         let inside = |p: DVec3| p.length() < 3.4;
         let mut spheres = generate::random_spheres(
             DVec3::splat(-3.5),
             DVec3::splat(3.5),
             &inside,
-            80,
+            n,
             0.4,
             1.0,
             0,
@@ -721,31 +716,41 @@ mod tests {
         for s in spheres.iter_mut().step_by(3) {
             s.material = 1;
         }
-        worlds.push((
-            World {
-                spheres: spheres.clone(),
-                containers: vec![Fixed {
-                    shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
-                    material: 0,
+        World {
+            spheres,
+            containers: vec![Fixed {
+                shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
+                material: 0,
+            }],
+            materials: vec!["a".into(), "b".into()],
+            effects: Effects {
+                response: Response::Inelastic { restitution: e },
+                pairs: vec![MaterialPair {
+                    a: 1,
+                    b: 1,
+                    response: Response::Sticky,
                 }],
-                materials: vec!["a".into(), "b".into()],
-                effects: Effects {
-                    response: Response::Inelastic { restitution: 0.8 },
-                    pairs: vec![MaterialPair {
-                        a: 1,
-                        b: 1,
-                        response: Response::Sticky,
-                    }],
-                    tc: 1e-3,
-                    ..Effects::default()
-                },
-                ..World::default()
+                tc: 1e-3,
+                ..Effects::default()
             },
-            20.0,
-        ));
+            ..World::default()
+        }
+    }
+
+    /// A run restored from a checkpoint ends bit for bit where the uninterrupted run ends: the
+    /// gas, a sticky and inelastic mix with clusters in a container (renumbering in between),
+    /// and report-only; a damaged checkpoint or another world is refused, never a panic.
+    #[test]
+    fn checkpoints_resume_bit_for_bit() {
+        let mut worlds = Vec::new();
+        let mut gas = World::default();
+        generate::periodic_gas(&mut gas, 500, 0.35, 0.5, 1.0, 4).unwrap();
+        worlds.push((gas.clone(), 3.0));
+        let mix = sticky_mix(80, 0.8);
+        worlds.push((mix.clone(), 20.0));
         worlds.push((
             World {
-                spheres,
+                spheres: mix.spheres,
                 materials: vec!["a".into(), "b".into()],
                 effects: Effects {
                     response: Response::None,
@@ -874,40 +879,7 @@ mod tests {
             sim.stats()
         );
         // Walls and clusters: a sticky and inelastic mix in a container.
-        let inside = |p: DVec3| p.length() < 3.4;
-        let mut spheres = generate::random_spheres(
-            DVec3::splat(-3.5),
-            DVec3::splat(3.5),
-            &inside,
-            60,
-            0.4,
-            1.0,
-            0,
-            3,
-        )
-        .unwrap();
-        for s in spheres.iter_mut().step_by(3) {
-            s.material = 1;
-        }
-        let w = World {
-            spheres,
-            containers: vec![Fixed {
-                shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
-                material: 0,
-            }],
-            materials: vec!["a".into(), "b".into()],
-            effects: Effects {
-                response: Response::Inelastic { restitution: 0.9 },
-                pairs: vec![MaterialPair {
-                    a: 1,
-                    b: 1,
-                    response: Response::Sticky,
-                }],
-                tc: 1e-3,
-                ..Effects::default()
-            },
-            ..World::default()
-        };
+        let w = sticky_mix(60, 0.9);
         let mut sim = Simulation::new(w).unwrap();
         sim.engine.set_checking();
         sim.advance_to(20.0).unwrap();

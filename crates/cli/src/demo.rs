@@ -5,15 +5,14 @@
 //! nine-sphere first-contact table of the query layer instead.
 
 use std::error::Error;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::DVec3;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use spheresweep::query::first_contacts;
 use spheresweep::scene::{Scene, demo};
-use spheresweep::sim::{Simulation, SphereState, Stats, demo_world};
+use spheresweep::sim::{Simulation, SphereState, demo_world};
 use spheresweep::{Accuracy, QueryOptions};
 
 use crate::picture::{
@@ -206,38 +205,22 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     let t_end = if args.quick { T_QUICK } else { T_END };
     let mut sim = Simulation::new(world)?;
     let ke0 = sim.kinetic_energy();
-    let mut paths: Vec<Vec<DVec3>> = tracked
-        .iter()
-        .map(|&i| vec![sim.spheres()[i].centre])
-        .collect();
+    let start = sim.spheres();
+    let mut paths: Vec<Vec<DVec3>> = tracked.iter().map(|&i| vec![start[i].centre]).collect();
 
-    let bar = ProgressBar::new(1000);
-    if args.quiet || !std::io::stderr().is_terminal() {
-        bar.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
-    )?);
+    let bar = crate::progress::SimProgress::new(t_end, args.quiet, 1, true)?;
     let started = Instant::now();
     for k in 1..=SAMPLES {
         let stop = t_end * k as f64 / SAMPLES as f64;
-        let mut progress = |t: f64, s: &Stats| {
-            bar.set_position((t / t_end * 1000.0) as u64);
-            bar.set_message(format!(
-                "t = {t:.1} of {t_end}, {} collisions",
-                s.pair_collisions + s.wall_collisions
-            ));
-            true
-        };
-        sim.advance_with(stop, &mut progress)?;
-        progress(sim.time(), sim.stats());
+        sim.advance_with(stop, &mut |t, s| bar.show(t, s))?;
+        bar.show(sim.time(), sim.stats());
         let now = sim.spheres();
         for (path, &i) in paths.iter_mut().zip(&tracked) {
             path.push(now[i].centre);
         }
     }
     let seconds = started.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    bar.finish();
 
     // The summary.
     let stats = *sim.stats();

@@ -5,6 +5,7 @@ mod bench;
 mod demo;
 mod output;
 mod picture;
+mod progress;
 mod query;
 mod render;
 mod run;

@@ -8,16 +8,15 @@
 
 use std::error::Error;
 use std::fs::File;
-use std::io::{BufWriter, IsTerminal, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use glam::DVec3;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use spheresweep::io::scene_file::SceneFile;
 use spheresweep::io::xyz;
-use spheresweep::sim::{Boundary, EventRecord, Response, Simulation, Stats};
+use spheresweep::sim::{Boundary, EventRecord, Response, Simulation};
 
 /// Options of `spheresweep run`.
 #[derive(Debug, clap::Args)]
@@ -417,14 +416,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         frames += 1;
     }
 
-    let bar = ProgressBar::new(1000);
-    if args.quiet || !std::io::stderr().is_terminal() {
-        bar.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
-    )?);
     let t_end = settings.t_end;
+    let bar = crate::progress::SimProgress::new(t_end, args.quiet, 4, false)?;
     let mut simulated = Duration::from_secs_f64(resume.as_ref().map_or(0.0, |c| c.simulated));
     let mut logged = resume.as_ref().map_or(0, |c| c.logged);
     let first = resume.as_ref().map_or(0, |c| c.next_stop as usize);
@@ -436,17 +429,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .skip(first)
     {
         let start = Instant::now();
-        let mut progress = |t: f64, s: &Stats| {
-            bar.set_position((t / t_end * 1000.0) as u64);
-            bar.set_message(format!(
-                "t = {t:.4}, {} collisions",
-                s.pair_collisions + s.wall_collisions
-            ));
-            true
-        };
-        sim.advance_with(stop, &mut progress)?;
+        sim.advance_with(stop, &mut |t, s| bar.show(t, s))?;
         simulated += start.elapsed();
-        progress(sim.time(), sim.stats());
+        bar.show(sim.time(), sim.stats());
         if let Some(f) = events.as_mut() {
             let batch = sim.take_events();
             logged += batch.len() as u64;
@@ -480,7 +465,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             next_checkpoint = Some(sim.time() + every);
         }
     }
-    bar.finish_and_clear();
+    bar.finish();
 
     // Observables.
     let stats = *sim.stats();

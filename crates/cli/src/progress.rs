@@ -1,0 +1,61 @@
+//! The progress bar of the subcommands that simulate (`run`, `demo`): on stderr, only when it
+//! is a terminal and `--quiet` is not given; it follows simulated time.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use spheresweep::sim::Stats;
+use std::io::IsTerminal;
+
+/// A bar from time 0 to `t_end`.
+pub struct SimProgress {
+    bar: ProgressBar,
+    t_end: f64,
+    /// Decimals of the time shown.
+    decimals: usize,
+    /// Whether the message also shows `t_end`.
+    show_end: bool,
+}
+
+impl SimProgress {
+    pub fn new(
+        t_end: f64,
+        quiet: bool,
+        decimals: usize,
+        show_end: bool,
+    ) -> Result<Self, indicatif::style::TemplateError> {
+        let bar = ProgressBar::new(1000);
+        if quiet || !std::io::stderr().is_terminal() {
+            bar.set_draw_target(ProgressDrawTarget::hidden());
+        }
+        bar.set_style(ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
+        )?);
+        Ok(Self {
+            bar,
+            t_end,
+            decimals,
+            show_end,
+        })
+    }
+
+    /// Shows time `t` and the collisions so far; always `true`, so that it can be the
+    /// `keep_going` of `Simulation::advance_with`.
+    pub fn show(&self, t: f64, s: &Stats) -> bool {
+        self.bar.set_position((t / self.t_end * 1000.0) as u64);
+        let end = if self.show_end {
+            format!(" of {}", self.t_end)
+        } else {
+            String::new()
+        };
+        self.bar.set_message(format!(
+            "t = {t:.prec$}{end}, {} collisions",
+            s.pair_collisions + s.wall_collisions,
+            prec = self.decimals
+        ));
+        true
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
