@@ -1,0 +1,751 @@
+"""Batch queries beyond one machine, on Dask (``dask[distributed]``).
+
+Two kinds of work spread over the workers of a ``distributed.Client``:
+
+* **Sharded batch queries on Parquet datasets** (:func:`zip_times_parquet`,
+  :func:`static_contacts_parquet`): the dataset is read with ``dask.dataframe.read_parquet``,
+  every partition is answered by one task calling the binding (``zip_times`` or
+  ``static_times``), and the input columns plus the result columns of ``docs/query-format.md``
+  (``time``; ``kind`` and ``index`` against shapes) are written as a Parquet dataset, row for
+  row the single-process answers.
+* **The whole-scene query over a scene partitioned in space** (:func:`all_contacts`,
+  :func:`first_contacts`): slabs over the spheres' centres at t = 0, each with a halo of every
+  sphere that can reach one of its own within ``[0, t_max]`` (:func:`plan_slabs`, derivation in
+  ``docs/distributed.md``); each task queries its local scene, and every contact is kept by one
+  partition only, so the union is the single-machine answer, bit for bit.
+
+Every function takes a ``client`` or uses the current one (``distributed.get_client``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+from dataclasses import dataclass
+from typing import Any, Optional, Sequence
+
+import numpy as np
+
+__all__ = [
+    "PAIR_COLUMNS",
+    "SPHERE_COLUMNS",
+    "HALO_MARGIN",
+    "SlabPlan",
+    "ParquetSummary",
+    "ContactTable",
+    "FirstContactTable",
+    "reach_halo",
+    "plan_slabs",
+    "zip_times_parquet",
+    "static_contacts_parquet",
+    "all_contacts",
+    "first_contacts",
+]
+
+#: Input columns of a pairs dataset, as in ``docs/query-format.md``.
+PAIR_COLUMNS = (
+    "ax", "ay", "az", "avx", "avy", "avz", "ar",
+    "bx", "by", "bz", "bvx", "bvy", "bvz", "br",
+)  # fmt: skip
+#: Input columns of a spheres dataset (spheres against shapes), as in ``docs/query-format.md``.
+SPHERE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "r")
+#: Relative widening of the derived halo: it covers the rounding of the f32 kernels (a contact
+#: reported a few ulps beyond the exact reach) many times over, for ~1.6 % more halo spheres.
+HALO_MARGIN = 2.0**-6
+
+# Kind codes of the query files (docs/query-format.md): 0 none, 1 plane, 2 cylinder,
+# 3 container. The binding's scene query uses 1 sphere, 2 plane, 3 cylinder, 4 container.
+_FILE_KIND = {"plane": 1, "cylinder": 2, "container": 3}
+_SCENE_KIND_SPHERE = 1
+
+
+def _native():
+    """The binding, imported when first needed (this module may be imported by the package)."""
+    import spheresweep
+
+    return spheresweep
+
+
+def _client_or_current(client):
+    """``client``, or the current ``distributed`` client; a ValueError naming the argument."""
+    if client is not None:
+        return client
+    from distributed import get_client
+
+    try:
+        return get_client()
+    except ValueError as e:
+        raise ValueError(
+            "client: no distributed.Client given and none is current "
+            "(start one with distributed.Client(...))"
+        ) from e
+
+
+def _check_t_max(t_max: float) -> float:
+    t_max = float(t_max)
+    if math.isnan(t_max) or t_max < 0:
+        raise ValueError(f"t_max: {t_max} is not a time >= 0")
+    return t_max
+
+
+# ---------------------------------------------------------------------------------------------
+# Static shapes travel as plain tuples (the binding's shape objects do not pickle).
+
+
+def _shape_specs(shapes: Sequence[Any], name: str) -> list:
+    """Shapes as picklable ``(kind, args)`` tuples, rebuilt identically on the workers."""
+    ss = _native()
+    specs = []
+    for k, shape in enumerate(shapes):
+        if isinstance(shape, ss.Plane):
+            spec = ("plane", (tuple(shape.point), _plane_normal_argument(shape, f"{name}[{k}]")))
+        elif isinstance(shape, ss.Cylinder):
+            spec = ("cylinder", (tuple(shape.p1), tuple(shape.p2), float(shape.radius)))
+        elif isinstance(shape, ss.Container):
+            spec = ("container", (tuple(shape.centre), float(shape.radius)))
+        else:
+            raise TypeError(
+                f"{name}[{k}]: expected a Plane, Cylinder or Container, got {type(shape).__name__}"
+            )
+        specs.append(spec)
+    return specs
+
+
+def _plane_normal_argument(plane, label: str) -> tuple:
+    """A normal that rebuilds ``plane`` with the same unit normal bits.
+
+    The binding keeps the normalised normal; normalising it again may round differently. The
+    stored normal is tried first, then its neighbours one float32 step away in each component;
+    the first that reproduces the stored normal exactly is used.
+    """
+    ss = _native()
+    point = tuple(plane.point)
+    normal = np.array(plane.normal, dtype=np.float32)
+    target = tuple(normal.tolist())
+    candidates = [normal]
+    for axis in range(3):
+        for direction in (np.inf, -np.inf):
+            step = normal.copy()
+            step[axis] = np.nextafter(step[axis], np.float32(direction))
+            candidates.append(step)
+    for candidate in candidates:
+        if tuple(ss.Plane(point, candidate.tolist()).normal) == target:
+            return tuple(candidate.tolist())
+    raise ValueError(
+        f"{label}: the plane's unit normal {target} cannot be rebuilt exactly on a worker; "
+        "give its normal so that normalising it once more keeps it (e.g. an axis)"
+    )
+
+
+def _build_shapes(specs: list) -> tuple:
+    """Planes, cylinders and containers from ``_shape_specs``, in their order within kinds."""
+    ss = _native()
+    planes, cylinders, containers = [], [], []
+    for kind, args in specs:
+        if kind == "plane":
+            planes.append(ss.Plane(*args))
+        elif kind == "cylinder":
+            cylinders.append(ss.Cylinder(*args))
+        else:
+            containers.append(ss.Container(*args))
+    return planes, cylinders, containers
+
+
+# ---------------------------------------------------------------------------------------------
+# Sharded batch queries on Parquet datasets.
+
+
+@dataclass(frozen=True)
+class ParquetSummary:
+    """What a sharded Parquet query did: rows answered, rows with a contact, tasks run."""
+
+    rows: int
+    contacts: int
+    partitions: int
+    destination: str
+
+
+def _part_name(i: int) -> str:
+    """Output file of partition ``i``: zero-padded so that name order is partition order."""
+    return f"part.{i:06d}.parquet"
+
+
+def _float_columns(frame, columns: Sequence[str]) -> list:
+    """The named columns of a pandas frame as float32 arrays (float64 rounded to nearest)."""
+    return [np.ascontiguousarray(frame[c].to_numpy(dtype=np.float32)) for c in columns]
+
+
+def _partition_error(source: str, info: Optional[dict], e: Exception) -> ValueError:
+    number = "?" if info is None else info.get("number", "?")
+    return ValueError(f"{source}: partition {number} (rows counted within it): {e}")
+
+
+def _pair_partition(frame, t_max, accuracy, source, partition_info=None):
+    """One task: the times of impact of one partition of pairs, appended as ``time``."""
+    ss = _native()
+    cols = _float_columns(frame, PAIR_COLUMNS)
+    if len(frame) == 0:
+        times = np.empty(0, dtype=np.float32)
+    else:
+        try:
+            a = ss.Spheres.from_columns(*cols[:7])
+            b = ss.Spheres.from_columns(*cols[7:])
+            times = ss.zip_times(a, b, t_max=t_max, accuracy=accuracy)
+        except (ValueError, TypeError) as e:
+            raise _partition_error(source, partition_info, e) from e
+    return frame.assign(time=times)
+
+
+def _static_partition(frame, specs, t_max, accuracy, source, partition_info=None):
+    """One task: each sphere's earliest contact with the shapes, as ``time, kind, index``."""
+    ss = _native()
+    n = len(frame)
+    time = np.full(n, np.inf, dtype=np.float32)
+    kind = np.zeros(n, dtype=np.uint8)
+    index = np.full(n, -1, dtype=np.int64)
+    if n and specs:
+        try:
+            spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
+            planes, cylinders, containers = _build_shapes(specs)
+            ordered = planes + cylinders + containers  # the tie rule's order
+            table = ss.static_times(spheres, ordered, t_max=t_max, accuracy=accuracy)
+        except (ValueError, TypeError) as e:
+            raise _partition_error(source, partition_info, e) from e
+        column = np.argmin(table, axis=1)  # the first of equal times: plane, cylinder, ...
+        time = table[np.arange(n), column]
+        hit = np.isfinite(time)
+        codes = np.array(
+            [1] * len(planes) + [2] * len(cylinders) + [3] * len(containers), dtype=np.uint8
+        )
+        starts = np.array(
+            [0] * len(planes)
+            + [len(planes)] * len(cylinders)
+            + [len(planes) + len(cylinders)] * len(containers),
+            dtype=np.int64,
+        )
+        kind = np.where(hit, codes[column], 0).astype(np.uint8)
+        index = np.where(hit, column - starts[column], -1).astype(np.int64)
+        time = time.astype(np.float32)
+    return frame.assign(time=time, kind=kind, index=index)
+
+
+def _check_schema(frame_meta, needed: Sequence[str], added: Sequence[str], source: str):
+    """Missing, non-float or clashing columns of the input, named before any task runs."""
+    present = list(frame_meta.columns)
+    for column in needed:
+        if column not in present:
+            raise ValueError(
+                f"{source}: no column {column}: the dataset needs the columns "
+                f"{', '.join(needed)}; it has {', '.join(map(str, present))}"
+            )
+        dtype = frame_meta[column].dtype
+        if dtype.kind != "f":
+            raise ValueError(
+                f"{source}: column {column} has type {dtype}, expected float32 or float64"
+            )
+    for column in added:
+        if column in present:
+            raise ValueError(
+                f"{source}: the dataset already has a column {column}, which the output adds"
+            )
+
+
+def _local_destination(destination) -> str:
+    path = os.fspath(destination)
+    if "://" in path:
+        raise ValueError(
+            f"destination {path}: a path on a filesystem the client and every worker share is "
+            "needed (the result is written beside it and renamed into place)"
+        )
+    return os.path.abspath(path)
+
+
+def _replace_directory(staged: str, final: str, overwrite: bool) -> None:
+    """Renames ``staged`` to ``final``; an existing ``final`` only if ``overwrite`` and it holds
+    nothing but Parquet parts (it is moved aside first and removed after)."""
+    if os.path.lexists(final):
+        if not overwrite:
+            raise FileExistsError(f"destination {final} exists (pass overwrite=True to replace it)")
+        if not os.path.isdir(final):
+            raise ValueError(f"destination {final} exists and is not a directory of Parquet parts")
+        strangers = [
+            f
+            for f in os.listdir(final)
+            if not (f.endswith(".parquet") or f in ("_metadata", "_common_metadata"))
+        ]
+        if strangers:
+            raise ValueError(
+                f"destination {final} holds {strangers[0]!r}, not only Parquet parts: not replaced"
+            )
+        aside = _staging_name(final, "old")
+        os.rename(final, aside)
+        os.rename(staged, final)
+        shutil.rmtree(aside, ignore_errors=True)
+    else:
+        os.rename(staged, final)
+
+
+def _staging_name(final: str, what: str) -> str:
+    head, tail = os.path.split(final)
+    return os.path.join(head, f".{tail}.{os.getpid()}.{what}")
+
+
+def _sharded_parquet(source, destination, needed, added, apply, args, meta_columns, client,
+                     overwrite, split_row_groups):
+    import dask
+    import dask.dataframe as dd
+
+    client = _client_or_current(client)
+    final = _local_destination(destination)
+    if os.path.lexists(final) and not overwrite:
+        raise FileExistsError(f"destination {final} exists (pass overwrite=True to replace it)")
+    label = os.fspath(source)
+    frame = dd.read_parquet(source, split_row_groups=split_row_groups)
+    _check_schema(frame._meta, needed, added, label)
+    meta = frame._meta.assign(
+        **{name: np.empty(0, dtype=dtype) for name, dtype in meta_columns}
+    )
+    answered = frame.map_partitions(apply, *args, label, meta=meta, enforce_metadata=False)
+    staged = _staging_name(final, "tmp")
+    shutil.rmtree(staged, ignore_errors=True)
+    try:
+        write = answered.to_parquet(
+            staged,
+            write_index=False,
+            compression="snappy",
+            name_function=_part_name,
+            compute=False,
+        )
+        rows = answered["time"].size
+        contacts = (answered["time"] < np.inf).sum()
+        with dask.config.set(scheduler=client):
+            _, rows, contacts = dask.compute(write, rows, contacts)
+        _replace_directory(staged, final, overwrite)
+    except BaseException:
+        shutil.rmtree(staged, ignore_errors=True)
+        raise
+    return ParquetSummary(int(rows), int(contacts), int(frame.npartitions), final)
+
+
+def zip_times_parquet(
+    source,
+    destination,
+    *,
+    t_max: float = math.inf,
+    accuracy: str = "stable",
+    client=None,
+    overwrite: bool = False,
+    split_row_groups: Any = "infer",
+) -> ParquetSummary:
+    """Times of impact of every pair of a Parquet dataset, one Dask task per partition.
+
+    ``source`` is anything ``dask.dataframe.read_parquet`` reads, with the pair columns
+    ``PAIR_COLUMNS`` (float32 or float64; other columns are carried through). ``destination``
+    becomes a directory of ``part.NNNNNN.parquet`` files, one per partition in input order:
+    the input columns plus ``time`` (float32, ``inf`` for no contact in ``[0, t_max]``), the
+    same bits as ``zip_times`` over the whole dataset in one process. It is written beside its
+    final path under a temporary name and renamed into place, so it appears whole or not at all
+    (it must be on a filesystem every worker shares). Raises ``ValueError`` naming a missing,
+    non-float or clashing column before any task runs, and naming the partition and the row
+    within it for an invalid value; ``FileExistsError`` if ``destination`` exists and
+    ``overwrite`` is false.
+    """
+    t_max = _check_t_max(t_max)
+    return _sharded_parquet(
+        source,
+        destination,
+        PAIR_COLUMNS,
+        ("time",),
+        _pair_partition,
+        (t_max, accuracy),
+        (("time", np.float32),),
+        client,
+        overwrite,
+        split_row_groups,
+    )
+
+
+def static_contacts_parquet(
+    source,
+    destination,
+    shapes: Sequence[Any],
+    *,
+    t_max: float = math.inf,
+    accuracy: str = "stable",
+    client=None,
+    overwrite: bool = False,
+    split_row_groups: Any = "infer",
+) -> ParquetSummary:
+    """Every sphere of a Parquet dataset against static shapes, one Dask task per partition.
+
+    ``source`` has the columns ``SPHERE_COLUMNS``; ``shapes`` is a sequence of ``Plane``,
+    ``Cylinder`` and ``Container`` (numbered within their kind in the order given, as in a
+    shapes file). The output adds the columns of ``spheresweep query --against``: ``time``
+    (float32), ``kind`` (uint8: 1 plane, 2 cylinder, 3 container, 0 none) and ``index`` (int64,
+    the shape's index within its kind, -1 none), ties to the plane, then the cylinder, then the
+    container, then the lowest index. Output, staging and errors as :func:`zip_times_parquet`.
+    """
+    t_max = _check_t_max(t_max)
+    specs = _shape_specs(shapes, "shapes")
+    if not specs:
+        raise ValueError("shapes: no shapes given (a query against shapes needs at least one)")
+    return _sharded_parquet(
+        source,
+        destination,
+        SPHERE_COLUMNS,
+        ("time", "kind", "index"),
+        _static_partition,
+        (specs, t_max, accuracy),
+        (("time", np.float32), ("kind", np.uint8), ("index", np.int64)),
+        client,
+        overwrite,
+        split_row_groups,
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# The whole-scene query over slabs with halos.
+
+
+def reach_halo(velocities, radii, t_max: float) -> float:
+    """The derived halo width ``2 max_i (r_i + |v_i| t_max)`` (no margin).
+
+    Two spheres that touch at some ``t`` in ``[0, t_max]`` start at most
+    ``(r_i + |v_i| t_max) + (r_j + |v_j| t_max)`` apart, so no more than this along any axis
+    (``docs/distributed.md``). Computed in float64 from the float32 values the query sees.
+    """
+    t_max = _check_t_max(t_max)
+    if math.isinf(t_max):
+        raise ValueError(
+            "t_max: inf has no finite halo; a partitioned query needs a finite window "
+            "(for an infinite one use spheresweep.all_contacts on one machine)"
+        )
+    v = np.asarray(velocities, dtype=np.float32).astype(np.float64).reshape(-1, 3)
+    r = np.asarray(radii, dtype=np.float32).astype(np.float64).reshape(-1)
+    if len(r) == 0:
+        return 0.0
+    return 2.0 * float(np.max(r + np.sqrt((v * v).sum(axis=1)) * t_max))
+
+
+@dataclass(frozen=True)
+class SlabPlan:
+    """Slabs along one axis over the centres at t = 0, with equal numbers of owned spheres.
+
+    Partition ``k`` owns the spheres with ``bounds[k-1] <= x < bounds[k]`` (unbounded at the
+    ends) and also holds, as its halo, every sphere with ``x`` within ``halo`` of that slab.
+    ``members[k]`` lists the global indices it holds in increasing order, ``owned[k]`` which of
+    them it owns.
+    """
+
+    axis: int
+    bounds: np.ndarray
+    halo: float
+    owner: np.ndarray
+    members: tuple
+    owned: tuple
+
+    @property
+    def partitions(self) -> int:
+        """Number of slabs."""
+        return len(self.members)
+
+    @property
+    def halo_fraction(self) -> float:
+        """Halo spheres held over all partitions, as a fraction of the spheres."""
+        held = sum(len(m) for m in self.members)
+        return held / len(self.owner) - 1.0 if len(self.owner) else 0.0
+
+
+def plan_slabs(
+    centres,
+    velocities,
+    radii,
+    *,
+    t_max: float,
+    partitions: int,
+    axis: Optional[int] = None,
+    halo: Optional[float] = None,
+) -> SlabPlan:
+    """Slabs over the centres at t = 0 and their halos (see :class:`SlabPlan`).
+
+    ``axis`` defaults to the one along which the centres spread most; ``halo`` to
+    ``reach_halo(...) * (1 + HALO_MARGIN)``, the derived width widened for rounding. A smaller
+    ``halo`` loses contacts across slab borders (exposed for the tests and experiments).
+    """
+    c = np.asarray(centres, dtype=np.float32).reshape(-1, 3)
+    n = len(c)
+    partitions = int(partitions)
+    if partitions < 1:
+        raise ValueError(f"partitions: {partitions} is not a count >= 1")
+    if halo is None:
+        halo = reach_halo(velocities, radii, t_max) * (1.0 + HALO_MARGIN)
+    halo = float(halo)
+    if not halo >= 0:
+        raise ValueError(f"halo: {halo} is not a width >= 0")
+    x64 = c.astype(np.float64)
+    if axis is None:
+        axis = int(np.argmax(np.ptp(x64, axis=0))) if n else 0
+    if axis not in (0, 1, 2):
+        raise ValueError(f"axis: {axis} is not 0, 1 or 2")
+    x = x64[:, axis]
+    order = np.argsort(x, kind="stable")
+    xs = x[order]
+    cuts = [(k * n) // partitions for k in range(1, partitions)]
+    bounds = xs[cuts] if n else np.zeros(0)
+    owner = np.searchsorted(bounds, x, side="right").astype(np.int32)
+    edges = np.concatenate([[-np.inf], bounds, [np.inf]])
+    members, owned = [], []
+    for k in range(partitions):
+        lo = np.searchsorted(xs, edges[k] - halo, side="left")
+        hi = np.searchsorted(xs, edges[k + 1] + halo, side="right")
+        held = np.sort(order[lo:hi])
+        members.append(held)
+        owned.append(owner[held] == k)
+    return SlabPlan(axis, bounds, halo, owner, tuple(members), tuple(owned))
+
+
+@dataclass(frozen=True)
+class ContactTable:
+    """Every contact in the window over all partitions, in the single-machine order (time,
+    sphere, kind, index): the columns of ``spheresweep.all_contacts`` with global indices."""
+
+    time: np.ndarray
+    sphere: np.ndarray
+    kind: np.ndarray
+    index: np.ndarray
+    point: Optional[np.ndarray]
+    normal: Optional[np.ndarray]
+    plan: SlabPlan
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+
+@dataclass(frozen=True)
+class FirstContactTable:
+    """Each sphere's earliest contact, indexed by global sphere: the columns of
+    ``spheresweep.first_contacts`` with global partner indices."""
+
+    time: np.ndarray
+    kind: np.ndarray
+    index: np.ndarray
+    point: Optional[np.ndarray]
+    normal: Optional[np.ndarray]
+    plan: SlabPlan
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+
+def _local_scene(part, specs):
+    ss = _native()
+    centres, velocities, radii, masses, members, owned = part
+    spheres = ss.Spheres(centres, velocities, radii, masses)
+    planes, cylinders, containers = _build_shapes(specs)
+    return ss.Scene(spheres, planes, cylinders, containers), members, owned
+
+
+def _local_all(part, specs, t_max, accuracy, geometry):
+    """One task: the contacts of one slab's scene that the slab owns, with global indices.
+
+    A sphere pair is kept by the owner of its lower index (``sphere``, since the local scene
+    lists its spheres in global order), a static contact by the sphere's owner.
+    """
+    ss = _native()
+    scene, members, owned = _local_scene(part, specs)
+    found = ss.all_contacts(scene, t_max=t_max, accuracy=accuracy, geometry=geometry)
+    sphere = np.asarray(found.sphere, dtype=np.int64)
+    keep = owned[sphere]
+    kind = np.asarray(found.kind)[keep]
+    index = np.asarray(found.index)[keep]
+    index = np.where(kind == _SCENE_KIND_SPHERE, members[np.where(kind == _SCENE_KIND_SPHERE, index, 0)], index)
+    out = {
+        "time": np.asarray(found.time)[keep],
+        "sphere": members[sphere[keep]].astype(np.uint32),
+        "kind": kind,
+        "index": index.astype(np.int64),
+    }
+    if geometry:
+        out["point"] = np.asarray(found.point)[keep]
+        out["normal"] = np.asarray(found.normal)[keep]
+    return out
+
+
+def _local_first(part, specs, t_max, accuracy, geometry):
+    """One task: the earliest contact of each sphere the slab owns, with global indices."""
+    ss = _native()
+    scene, members, owned = _local_scene(part, specs)
+    found = ss.first_contacts(scene, t_max=t_max, accuracy=accuracy, geometry=geometry)
+    kind = np.asarray(found.kind)[owned]
+    index = np.asarray(found.index)[owned]
+    sphere_hit = kind == _SCENE_KIND_SPHERE
+    index = np.where(sphere_hit, members[np.where(sphere_hit, index, 0)], index)
+    out = {
+        "sphere": members[owned],
+        "time": np.asarray(found.time)[owned],
+        "kind": kind,
+        "index": index.astype(np.int64),
+    }
+    if geometry:
+        out["point"] = np.asarray(found.point)[owned]
+        out["normal"] = np.asarray(found.normal)[owned]
+    return out
+
+
+def _scatter_slabs(client, centres, velocities, radii, masses, plan):
+    """One future per non-empty slab holding its local columns, spread over the workers."""
+    parts = []
+    for members, owned in zip(plan.members, plan.owned):
+        if not owned.any():
+            continue
+        parts.append(
+            (
+                centres[members],
+                velocities[members],
+                radii[members],
+                None if masses is None else masses[members],
+                members,
+                owned,
+            )
+        )
+    return client.scatter(parts, hash=False) if parts else []
+
+
+def _scene_inputs(centres, velocities, radii, masses):
+    c = np.asarray(centres)
+    v = np.asarray(velocities)
+    r = np.asarray(radii)
+    for name, a, shape in (("centres", c, "(N, 3)"), ("velocities", v, "(N, 3)")):
+        if a.ndim != 2 or a.shape[1] != 3:
+            raise ValueError(f"{name}: shape {a.shape}, expected {shape}")
+    if r.ndim != 1:
+        raise ValueError(f"radii: shape {r.shape}, expected (N,)")
+    if not (len(c) == len(v) == len(r)):
+        raise ValueError(
+            f"velocities and radii: {len(v)} and {len(r)} rows, but centres has {len(c)}"
+        )
+    # Rounded to float32 once, here: the workers and a single-process query see the same bits.
+    conv = [np.ascontiguousarray(a, dtype=np.float32) if a.dtype.kind == "f" else a for a in (c, v, r)]
+    m = None if masses is None else np.asarray(masses)
+    if m is not None and m.dtype.kind == "f":
+        m = np.ascontiguousarray(m, dtype=np.float32)
+    return conv[0], conv[1], conv[2], m
+
+
+def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, containers,
+                 t_max, accuracy, geometry, partitions, axis, halo, client):
+    client = _client_or_current(client)
+    c, v, r, m = _scene_inputs(centres, velocities, radii, masses)
+    # Validated once on the client, so a bad sphere is named by its global index.
+    ss = _native()
+    ss.Scene(ss.Spheres(c, v, r, m), planes, cylinders, containers)
+    specs = (
+        _shape_specs(planes, "planes")
+        + _shape_specs(cylinders, "cylinders")
+        + _shape_specs(containers, "containers")
+    )
+    if partitions is None:
+        partitions = max(1, sum(client.nthreads().values()))
+    plan = plan_slabs(c, v, r, t_max=t_max, partitions=partitions, axis=axis, halo=halo)
+    futures = _scatter_slabs(client, c, v, r, m, plan)
+    results = client.gather(
+        client.map(task, futures, specs=specs, t_max=t_max, accuracy=accuracy,
+                   geometry=geometry, pure=False)
+    )
+    return plan, results
+
+
+def _join(results, name, dtype, width=None):
+    shape = (0,) if width is None else (0, width)
+    parts = [p[name] for p in results]
+    return np.concatenate(parts) if parts else np.empty(shape, dtype=dtype)
+
+
+def all_contacts(
+    centres,
+    velocities,
+    radii,
+    masses=None,
+    *,
+    planes: Sequence[Any] = (),
+    cylinders: Sequence[Any] = (),
+    containers: Sequence[Any] = (),
+    t_max: float,
+    accuracy: str = "stable",
+    geometry: bool = False,
+    partitions: Optional[int] = None,
+    axis: Optional[int] = None,
+    halo: Optional[float] = None,
+    client=None,
+) -> ContactTable:
+    """Every contact in ``[0, t_max]`` of a scene split into slabs, one Dask task per slab.
+
+    The arguments are those of ``spheresweep.Spheres`` and ``spheresweep.Scene``; ``t_max``
+    must be finite (the halo grows with it). ``partitions`` defaults to the client's threads.
+    The result has the columns of ``spheresweep.all_contacts`` on the whole scene, the same
+    rows in the same order with the same float32 bits: each pair once with ``sphere < index``,
+    sorted by time, sphere, kind, index. ``halo`` overrides the derived width (see
+    :func:`plan_slabs`). Errors as the binding's, naming spheres by their global index.
+    """
+    t_max = _check_t_max(t_max)
+    plan, results = _scene_query(
+        _local_all, centres, velocities, radii, masses, planes, cylinders, containers,
+        t_max, accuracy, geometry, partitions, axis, halo, client,
+    )  # fmt: skip
+    time = _join(results, "time", np.float32)
+    sphere = _join(results, "sphere", np.uint32)
+    kind = _join(results, "kind", np.uint8)
+    index = _join(results, "index", np.int64)
+    order = np.lexsort((index, kind, sphere, time))
+    point = normal = None
+    if geometry:
+        point = _join(results, "point", np.float32, 3)[order]
+        normal = _join(results, "normal", np.float32, 3)[order]
+    return ContactTable(time[order], sphere[order], kind[order], index[order], point, normal, plan)
+
+
+def first_contacts(
+    centres,
+    velocities,
+    radii,
+    masses=None,
+    *,
+    planes: Sequence[Any] = (),
+    cylinders: Sequence[Any] = (),
+    containers: Sequence[Any] = (),
+    t_max: float,
+    accuracy: str = "stable",
+    geometry: bool = False,
+    partitions: Optional[int] = None,
+    axis: Optional[int] = None,
+    halo: Optional[float] = None,
+    client=None,
+) -> FirstContactTable:
+    """The earliest contact of every sphere of a scene split into slabs, one task per slab.
+
+    Arguments as :func:`all_contacts`. Each slab answers for the spheres it owns (every sphere
+    that can touch one of them within ``t_max`` is in its halo, so the earliest contact and the
+    tie rule see the same candidates as on one machine): the columns of
+    ``spheresweep.first_contacts`` on the whole scene, with the same bits.
+    """
+    t_max = _check_t_max(t_max)
+    plan, results = _scene_query(
+        _local_first, centres, velocities, radii, masses, planes, cylinders, containers,
+        t_max, accuracy, geometry, partitions, axis, halo, client,
+    )  # fmt: skip
+    n = len(plan.owner)
+    time = np.full(n, np.inf, dtype=np.float32)
+    kind = np.zeros(n, dtype=np.uint8)
+    index = np.full(n, -1, dtype=np.int64)
+    point = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None
+    normal = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None
+    for part in results:
+        s = part["sphere"]
+        time[s] = part["time"]
+        kind[s] = part["kind"]
+        index[s] = part["index"]
+        if geometry:
+            point[s] = part["point"]
+            normal[s] = part["normal"]
+    return FirstContactTable(time, kind, index, point, normal, plan)

@@ -1,0 +1,304 @@
+"""spheresweep.distributed on a two-worker LocalCluster: the sharded Parquet queries and the
+slab-partitioned scene query give the single-process answers bit for bit, on data built so
+that partitions matter (many row groups; many contact pairs straddling slab borders), and a
+halo narrower than the derived width loses contacts."""
+
+import math
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+pd = pytest.importorskip("pandas")
+pa = pytest.importorskip("pyarrow")
+pq = pytest.importorskip("pyarrow.parquet")
+distributed = pytest.importorskip("distributed")
+
+import spheresweep as ss  # noqa: E402
+from spheresweep import distributed as sd  # noqa: E402
+
+ACCURACIES = ("textbook", "stable", "double")
+
+
+@pytest.fixture(scope="module")
+def client():
+    """Two worker processes with one thread each on 127.0.0.1 (threads if processes fail)."""
+    try:
+        cluster = distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            processes=True,
+            dashboard_address=None,
+        )
+    except Exception as e:  # pragma: no cover - only where processes cannot start
+        warnings.warn(f"LocalCluster with processes failed ({e}); using threads")
+        cluster = distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            processes=False,
+            dashboard_address=None,
+        )
+    with cluster, distributed.Client(cluster) as c:
+        yield c
+
+
+def bits(a):
+    """The float32 bit patterns, so that equality is bit equality (-0.0 != 0.0)."""
+    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
+
+
+# ---------------------------------------------------------------------------------------------
+# Sharded Parquet queries
+
+
+def random_pairs(rng, n):
+    """Pairs in a cube of side 8 with speeds up to ~1.7 and radii 0.1-1: a good share touch
+    within t_max = 3, many not at all."""
+    cols = {}
+    for side in "ab":
+        for f in ("x", "y", "z"):
+            cols[f"{side}{f}"] = rng.uniform(-4, 4, n)
+        for f in ("vx", "vy", "vz"):
+            cols[f"{side}{f}"] = rng.uniform(-1, 1, n)
+        cols[f"{side}r"] = rng.uniform(0.1, 1.0, n)
+    # Exactly touching and overlapping pairs among them (time 0 cases).
+    cols["bx"][:50] = cols["ax"][:50]
+    cols["by"][:50] = cols["ay"][:50]
+    cols["bz"][:50] = cols["az"][:50] + 0.5
+    return {c: cols[c] for c in sd.PAIR_COLUMNS}
+
+
+def write_dataset(directory, table, files, row_group_size):
+    os.makedirs(directory)
+    n = table.num_rows
+    step = math.ceil(n / files)
+    for k in range(files):
+        pq.write_table(
+            table.slice(k * step, step),
+            os.path.join(directory, f"part.{k:03d}.parquet"),
+            row_group_size=row_group_size,
+            compression="snappy",
+        )
+
+
+@pytest.mark.parametrize("accuracy", ACCURACIES)
+def test_sharded_pairs_match_one_process(client, tmp_path, accuracy):
+    rng = np.random.default_rng(17)
+    n = 30_000
+    cols = random_pairs(rng, n)  # float64: rounded to float32 the same way in both runs
+    table = pa.table({**cols, "id": np.arange(n, dtype=np.int64)})
+    source = tmp_path / "pairs"
+    write_dataset(source, table, files=3, row_group_size=2_500)
+    out = tmp_path / "pairs-toi"
+
+    summary = sd.zip_times_parquet(
+        source, out, t_max=3.0, accuracy=accuracy, client=client, split_row_groups=True
+    )
+
+    assert summary.partitions == 12  # one task per row group: partitioning is exercised
+    assert sorted(os.listdir(out)) == [f"part.{k:06d}.parquet" for k in range(12)]
+    got = pd.read_parquet(out)
+    a = ss.Spheres.from_columns(*[cols[c] for c in sd.PAIR_COLUMNS[:7]])
+    b = ss.Spheres.from_columns(*[cols[c] for c in sd.PAIR_COLUMNS[7:]])
+    expected = ss.zip_times(a, b, t_max=3.0, accuracy=accuracy)
+    assert list(got.columns) == [*sd.PAIR_COLUMNS, "id", "time"]
+    assert got["time"].dtype == np.float32
+    np.testing.assert_array_equal(got["id"].to_numpy(), np.arange(n))
+    np.testing.assert_array_equal(bits(got["time"]), bits(expected))
+    for c in sd.PAIR_COLUMNS:  # the inputs carried through unchanged
+        np.testing.assert_array_equal(got[c].to_numpy(), cols[c])
+    finite = np.isfinite(expected)
+    assert 0 < finite.sum() < n and (expected == 0).sum() >= 50
+    assert summary.rows == n and summary.contacts == finite.sum()
+    assert not [f for f in os.listdir(tmp_path) if f.startswith(".")]  # no staging left
+
+
+def test_sharded_pairs_errors_name_the_problem(client, tmp_path):
+    rng = np.random.default_rng(3)
+    cols = random_pairs(rng, 100)
+    source = tmp_path / "pairs"
+    write_dataset(source, pa.table({k: v for k, v in cols.items() if k != "bvy"}), 1, 100)
+    with pytest.raises(ValueError, match="no column bvy"):
+        sd.zip_times_parquet(source, tmp_path / "out", client=client)
+
+    bad = dict(cols)
+    bad["ar"] = bad["ar"].copy()
+    bad["ar"][7] = -1.0
+    write_dataset(tmp_path / "bad", pa.table(bad), 1, 100)
+    with pytest.raises(ValueError, match="partition 0.*sphere 7"):
+        sd.zip_times_parquet(tmp_path / "bad", tmp_path / "out", client=client)
+    assert not os.path.exists(tmp_path / "out")
+
+    (tmp_path / "taken").mkdir()
+    (tmp_path / "taken" / "notes.txt").write_text("mine")
+    good = tmp_path / "good"
+    write_dataset(good, pa.table(cols), 1, 100)
+    with pytest.raises(FileExistsError):
+        sd.zip_times_parquet(good, tmp_path / "taken", client=client)
+    with pytest.raises(ValueError, match="notes.txt"):
+        sd.zip_times_parquet(good, tmp_path / "taken", client=client, overwrite=True)
+    assert (tmp_path / "taken" / "notes.txt").read_text() == "mine"
+
+
+def test_sharded_spheres_against_shapes_match_the_scene_query(client, tmp_path):
+    # Spheres on a 10 x 10 lattice of spacing 10 (radii <= 1, sideways drift < 1 within
+    # t_max): they never touch each other, so the scene query's first contacts are exactly
+    # their first contacts with the shapes, with the library's tie rule.
+    rng = np.random.default_rng(5)
+    side = 40
+    n = side * side
+    gx, gy = np.meshgrid(np.arange(side) * 10.0, np.arange(side) * 10.0)
+    x, y = gx.ravel(), gy.ravel()
+    z = rng.uniform(1.5, 6.0, n)
+    vx, vy = rng.uniform(-0.2, 0.2, n), rng.uniform(-0.2, 0.2, n)
+    vz = rng.uniform(-2.0, 2.0, n)
+    r = rng.uniform(0.2, 1.0, n)
+    shapes = [
+        ss.Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),  # the floor
+        ss.Cylinder([0.0, 200.0, 0.0], [400.0, 200.0, 0.0], 3.0),  # along x at y = 200
+        ss.Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),  # the floor again: ties to plane 0
+        ss.Plane([0.0, 0.0, 9.0], [0.0, 0.3, -1.0]),  # a tilted ceiling
+        ss.Container([200.0, 200.0, 0.0], 280.0),
+    ]
+    cols = dict(x=x, y=y, z=z, vx=vx, vy=vy, vz=vz, r=r)
+    source = tmp_path / "spheres"
+    write_dataset(source, pa.table({k: v.astype(np.float32) for k, v in cols.items()}), 2, 300)
+
+    summary = sd.static_contacts_parquet(
+        source, tmp_path / "hits", shapes, t_max=4.0, client=client, split_row_groups=True
+    )
+
+    got = pd.read_parquet(tmp_path / "hits")
+    assert summary.partitions == 6
+    spheres = ss.Spheres.from_columns(*[cols[c] for c in sd.SPHERE_COLUMNS])
+    planes = [s for s in shapes if isinstance(s, ss.Plane)]
+    cylinders = [s for s in shapes if isinstance(s, ss.Cylinder)]
+    containers = [s for s in shapes if isinstance(s, ss.Container)]
+    scene = ss.Scene(spheres, planes, cylinders, containers)
+    first = ss.first_contacts(scene, t_max=4.0)
+    scene_kind = np.asarray(first.kind)
+    assert not (scene_kind == 1).any()  # no sphere touches a sphere: the reference holds
+    file_kind = np.where(scene_kind == 0, 0, scene_kind - 1)  # 2,3,4 -> 1,2,3
+    np.testing.assert_array_equal(bits(got["time"]), bits(first.time))
+    np.testing.assert_array_equal(got["kind"].to_numpy(), file_kind)
+    np.testing.assert_array_equal(got["index"].to_numpy(), first.index)
+    kinds = set(got["kind"].tolist())
+    assert {0, 1, 2, 3} <= kinds  # every kind and no contact all occur
+
+
+# ---------------------------------------------------------------------------------------------
+# The scene partitioned in slabs
+
+
+def crowded_scene(seed=11, n=5_000):
+    """Spheres in a 64 x 16 x 16 box (speeds up to ~1.7, radii 0.2-0.5) with a floor, a tilted
+    wall, a pillar and a container: with t_max = 1 many contact pairs straddle slab borders."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform([0, 0, 0], [64, 16, 16], (n, 3))
+    velocities = rng.uniform(-1, 1, (n, 3))
+    radii = rng.uniform(0.2, 0.5, n)
+    shapes = dict(
+        planes=[ss.Plane([0, 0, 0], [0, 0, 1]), ss.Plane([0, 16, 0], [0.2, -1, 0.1])],
+        cylinders=[ss.Cylinder([20, 8, 0], [20, 8, 1], 1.5)],
+        containers=[ss.Container([32, 8, 8], 34.0)],
+    )
+    return centres, velocities, radii, shapes
+
+
+def whole_scene(centres, velocities, radii, shapes):
+    return ss.Scene(ss.Spheres(centres, velocities, radii), **shapes)
+
+
+def straddling_pairs(contacts, plan):
+    """Sphere-sphere contacts whose two spheres are owned by different slabs."""
+    pairs = np.asarray(contacts.kind) == 1
+    s = np.asarray(contacts.sphere, dtype=np.int64)[pairs]
+    o = np.asarray(contacts.index)[pairs]
+    return int((plan.owner[s] != plan.owner[o]).sum())
+
+
+@pytest.mark.parametrize("accuracy", ACCURACIES)
+def test_partitioned_all_contacts_match_one_machine(client, accuracy):
+    centres, velocities, radii, shapes = crowded_scene()
+    t_max = 1.0
+    got = sd.all_contacts(
+        centres, velocities, radii, **shapes, t_max=t_max, accuracy=accuracy,
+        geometry=True, partitions=4, client=client,
+    )  # fmt: skip
+    expected = ss.all_contacts(
+        whole_scene(centres, velocities, radii, shapes), t_max=t_max, accuracy=accuracy,
+        geometry=True,
+    )  # fmt: skip
+
+    assert got.plan.partitions == 4 and got.plan.axis == 0
+    assert straddling_pairs(expected, got.plan) >= 100  # the borders are exercised
+    assert {1, 2, 3, 4} <= set(np.asarray(expected.kind).tolist())
+    np.testing.assert_array_equal(bits(got.time), bits(expected.time))
+    np.testing.assert_array_equal(got.sphere, expected.sphere)
+    np.testing.assert_array_equal(got.kind, expected.kind)
+    np.testing.assert_array_equal(got.index, expected.index)
+    np.testing.assert_array_equal(bits(got.point), bits(expected.point))
+    np.testing.assert_array_equal(bits(got.normal), bits(expected.normal))
+
+
+def test_partitioned_first_contacts_match_one_machine(client):
+    centres, velocities, radii, shapes = crowded_scene(seed=12)
+    t_max = 1.0
+    got = sd.first_contacts(
+        centres, velocities, radii, **shapes, t_max=t_max, geometry=True, partitions=5,
+        client=client,
+    )  # fmt: skip
+    expected = ss.first_contacts(
+        whole_scene(centres, velocities, radii, shapes), t_max=t_max, geometry=True
+    )
+    kind = np.asarray(expected.kind)
+    partner = np.asarray(expected.index)
+    sphere_hits = np.nonzero(kind == 1)[0]
+    # Spheres whose first contact is owned by another slab: the halo must provide them.
+    assert (got.plan.owner[sphere_hits] != got.plan.owner[partner[sphere_hits]]).sum() >= 50
+    np.testing.assert_array_equal(bits(got.time), bits(expected.time))
+    np.testing.assert_array_equal(got.kind, kind)
+    np.testing.assert_array_equal(got.index, partner)
+    np.testing.assert_array_equal(bits(got.point), bits(expected.point))
+    np.testing.assert_array_equal(bits(got.normal), bits(expected.normal))
+
+
+def test_a_halo_below_the_derived_width_loses_contacts(client):
+    centres, velocities, radii, shapes = crowded_scene(seed=13)
+    t_max = 1.0
+    derived = sd.reach_halo(velocities, radii, t_max)
+    full = sd.all_contacts(
+        centres, velocities, radii, **shapes, t_max=t_max, partitions=4, client=client
+    )
+    assert full.plan.halo >= derived  # the default is the derived width, widened
+    # Slabs (~16 wide) without any halo and with half the derived one.
+    lost = {}
+    for fraction in (0.0, 0.5):
+        narrow = sd.all_contacts(
+            centres, velocities, radii, **shapes, t_max=t_max, partitions=4,
+            halo=fraction * derived, client=client,
+        )  # fmt: skip
+        full_rows = set(zip(full.sphere.tolist(), full.kind.tolist(), full.index.tolist()))
+        narrow_rows = set(zip(narrow.sphere.tolist(), narrow.kind.tolist(), narrow.index.tolist()))
+        assert narrow_rows < full_rows  # a strict subset: contacts lost, none invented
+        missing = np.array(sorted(full_rows - narrow_rows))
+        # Every lost contact is a pair across a border, never a static contact.
+        assert (missing[:, 1] == 1).all()
+        assert (full.plan.owner[missing[:, 0]] != full.plan.owner[missing[:, 2]]).all()
+        lost[fraction] = len(missing)
+    assert lost[0.0] > lost[0.5] > 0
+
+
+def test_partitioned_query_refusals(client):
+    centres, velocities, radii, shapes = crowded_scene(n=50)
+    with pytest.raises(ValueError, match="t_max: inf"):
+        sd.all_contacts(centres, velocities, radii, t_max=math.inf, client=client)
+    with pytest.raises(ValueError, match="partitions: 0"):
+        sd.all_contacts(centres, velocities, radii, t_max=1.0, partitions=0, client=client)
+    bad = radii.copy()
+    bad[42] = np.nan
+    with pytest.raises(ValueError, match="42"):
+        sd.first_contacts(centres, velocities, bad, t_max=1.0, client=client)
