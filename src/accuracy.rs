@@ -6,6 +6,12 @@ use std::str::FromStr;
 
 /// How a narrow-phase kernel evaluates the quadratic. Every mode applies the same contact
 /// policy (docs/derivations/policies.md); they differ only in rounding.
+///
+/// ```
+/// use spheresweep::Accuracy;
+/// assert_eq!(Accuracy::default(), Accuracy::Stable);
+/// assert_eq!("double".parse::<Accuracy>(), Ok(Accuracy::Double));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Accuracy {
     /// The seed's formula literally in f32: `B² − 4AC`, `(−B ∓ √disc)/2A`.
@@ -23,6 +29,12 @@ impl Accuracy {
     pub const ALL: [Accuracy; 3] = [Accuracy::Textbook, Accuracy::Stable, Accuracy::Double];
 
     /// The lower-case name used on the command line and in reports.
+    ///
+    /// ```
+    /// use spheresweep::Accuracy;
+    /// assert_eq!(Accuracy::Textbook.name(), "textbook");
+    /// assert_eq!(Accuracy::Stable.to_string(), Accuracy::Stable.name());
+    /// ```
     pub const fn name(self) -> &'static str {
         match self {
             Accuracy::Textbook => "textbook",
@@ -39,6 +51,13 @@ impl fmt::Display for Accuracy {
 }
 
 /// An accuracy name that is not one of `textbook`, `stable`, `double`.
+///
+/// ```
+/// use spheresweep::{Accuracy, accuracy::UnknownAccuracy};
+/// let err = "fast".parse::<Accuracy>().unwrap_err();
+/// assert_eq!(err, UnknownAccuracy("fast".to_owned()));
+/// assert!(err.to_string().contains("\"fast\""));
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("unknown accuracy mode {0:?}: expected textbook, stable or double")]
 pub struct UnknownAccuracy(pub String);
