@@ -6,6 +6,13 @@ use std::fmt;
 use crate::shape::ShapeKind;
 
 /// What is wrong with a field.
+///
+/// ```
+/// use spheresweep::{Problem, Sphere};
+/// let err = Sphere::new([0.0; 3], [0.0; 3], 1.0, 0.0).unwrap_err();
+/// assert_eq!((err.field, err.problem), ("mass", Problem::NotPositive));
+/// assert_eq!(Problem::NotPositive.to_string(), "must be greater than zero");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Problem {
     /// The value (or one of its components) is NaN or infinite.
