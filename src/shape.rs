@@ -10,6 +10,12 @@ use glam::{DVec3, Vec3};
 use crate::error::{Problem, ShapeError};
 
 /// The four kinds of body of the seed: the one enum that names them (errors, contacts, counters).
+///
+/// ```
+/// use spheresweep::ShapeKind;
+/// assert_eq!(ShapeKind::ALL[0], ShapeKind::Sphere); // spheres win ties
+/// assert!(ShapeKind::Plane < ShapeKind::Container);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ShapeKind {
     /// A moving [`Sphere`].
@@ -32,6 +38,12 @@ impl ShapeKind {
     ];
 
     /// The lower-case name used in messages and reports.
+    ///
+    /// ```
+    /// use spheresweep::ShapeKind;
+    /// assert_eq!(ShapeKind::Cylinder.name(), "cylinder");
+    /// assert_eq!(ShapeKind::Container.to_string(), "container");
+    /// ```
     pub const fn name(self) -> &'static str {
         match self {
             ShapeKind::Sphere => "sphere",
@@ -70,6 +82,13 @@ pub enum Shape {
 
 impl Shape {
     /// Which kind of body this is.
+    ///
+    /// ```
+    /// use spheresweep::{Container, Shape, ShapeKind};
+    /// let vessel = Shape::Container(Container::new([0.0; 3], 10.0)?);
+    /// assert_eq!(vessel.kind(), ShapeKind::Container);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub const fn kind(&self) -> ShapeKind {
         match self {
             Shape::Sphere(_) => ShapeKind::Sphere,
@@ -109,6 +128,14 @@ pub struct Sphere {
 
 /// A static infinite plane through `point` with unit `normal` (two-sided: a sphere may hit
 /// it from either side).
+///
+/// ```
+/// use spheresweep::{Plane, QueryOptions, Shape, Sphere, time_of_impact};
+/// let wall = Plane::new([0.0; 3], [1.0, 0.0, 0.0])?;
+/// let ball = Sphere::new([-5.0, 0.0, 0.0], [2.0, 0.0, 0.0], 1.0, 1.0)?; // hits the back side
+/// assert_eq!(time_of_impact(&ball, &Shape::Plane(wall), QueryOptions::default()), Some(2.0));
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
     point: Vec3,
@@ -117,6 +144,14 @@ pub struct Plane {
 
 /// A static infinite cylinder: the axis through `point` along the unit `axis`, and a radius.
 /// Spheres collide with it from outside.
+///
+/// ```
+/// use spheresweep::{Cylinder, QueryOptions, Shape, Sphere, time_of_impact};
+/// let pillar = Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?; // the z axis, radius 1
+/// let ball = Sphere::new([5.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0, 1.0)?;
+/// assert_eq!(time_of_impact(&ball, &Shape::Cylinder(pillar), QueryOptions::default()), Some(3.0));
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cylinder {
     point: Vec3,
@@ -126,6 +161,14 @@ pub struct Cylinder {
 
 /// A static spherical vessel; the spheres it holds move inside it and touch its wall from
 /// within (contact distance `D = R_container − R_sphere`).
+///
+/// ```
+/// use spheresweep::{Container, QueryOptions, Shape, Sphere, time_of_impact};
+/// let vessel = Container::new([0.0; 3], 10.0)?;
+/// let ball = Sphere::new([0.0; 3], [0.0, 3.0, 0.0], 1.0, 1.0)?; // wall reached at y = 9
+/// assert_eq!(time_of_impact(&ball, &Shape::Container(vessel), QueryOptions::default()), Some(3.0));
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Container {
     centre: Vec3,
@@ -167,6 +210,13 @@ impl Sphere {
     /// # Errors
     /// A [`ShapeError`] naming the field if any value is NaN or infinite, the radius is
     /// negative or the mass is not above zero.
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// assert!(Sphere::new([0.0; 3], [0.0; 3], 0.0, 1.0).is_ok()); // a point sphere
+    /// let err = Sphere::new([0.0, f32::NAN, 0.0], [0.0; 3], 1.0, 1.0).unwrap_err();
+    /// assert_eq!(err.to_string(), "sphere centre is NaN or infinite");
+    /// ```
     pub fn new(
         centre: [f32; 3],
         velocity: [f32; 3],
@@ -208,26 +258,59 @@ impl Sphere {
     }
 
     /// Centre at `t = 0`.
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// let s = Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 1.0)?;
+    /// assert_eq!(s.centre().to_array(), [1.0, 2.0, 3.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn centre(&self) -> Vec3 {
         self.centre
     }
     /// Constant velocity.
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// let s = Sphere::new([0.0; 3], [4.0, 0.0, -1.0], 0.5, 1.0)?;
+    /// assert_eq!(s.velocity().to_array(), [4.0, 0.0, -1.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn velocity(&self) -> Vec3 {
         self.velocity
     }
     /// Radius (zero for a point sphere).
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// assert_eq!(Sphere::new([0.0; 3], [0.0; 3], 0.25, 1.0)?.radius(), 0.25);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn radius(&self) -> f32 {
         self.radius
     }
     /// Mass (finite, above zero).
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// assert_eq!(Sphere::new([0.0; 3], [0.0; 3], 0.25, 3.0)?.mass(), 3.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn mass(&self) -> f32 {
         self.mass
     }
     /// Centre at time `t`, `centre + velocity · t`, in f32.
+    ///
+    /// ```
+    /// use spheresweep::Sphere;
+    /// let s = Sphere::new([1.0, 0.0, 0.0], [0.0, 2.0, 0.0], 0.5, 1.0)?;
+    /// assert_eq!(s.centre_at(1.5).to_array(), [1.0, 3.0, 0.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn centre_at(&self, t: f32) -> Vec3 {
         self.centre + self.velocity * t
@@ -239,6 +322,13 @@ impl Plane {
     ///
     /// # Errors
     /// A [`ShapeError`] if a value is NaN or infinite or the normal is zero.
+    ///
+    /// ```
+    /// use spheresweep::Plane;
+    /// let floor = Plane::new([0.0; 3], [0.0, 0.0, 5.0])?;
+    /// assert_eq!(floor.normal().to_array(), [0.0, 0.0, 1.0]); // normalised
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn new(point: [f32; 3], normal: [f32; 3]) -> Result<Self, ShapeError> {
         const K: ShapeKind = ShapeKind::Plane;
         let point = finite_vec(K, "point", point)?;
@@ -246,11 +336,24 @@ impl Plane {
         Ok(Self { point, normal })
     }
     /// A point on the plane (`r_P0`).
+    ///
+    /// ```
+    /// use spheresweep::Plane;
+    /// assert_eq!(Plane::new([0.0, 0.0, 2.0], [0.0, 0.0, 1.0])?.point().z, 2.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn point(&self) -> Vec3 {
         self.point
     }
     /// The unit normal (`n̂_P`).
+    ///
+    /// ```
+    /// use spheresweep::Plane;
+    /// let n = Plane::new([0.0; 3], [3.0, 4.0, 0.0])?.normal();
+    /// assert_eq!(n.to_array(), [0.6, 0.8, 0.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn normal(&self) -> Vec3 {
         self.normal
@@ -263,6 +366,15 @@ impl Cylinder {
     /// # Errors
     /// A [`ShapeError`] if a value is NaN or infinite, the radius is negative, or
     /// `p1 == p2` (field `"axis"`).
+    ///
+    /// ```
+    /// use spheresweep::{Cylinder, Problem};
+    /// let pillar = Cylinder::new([2.0, 0.0, 0.0], [2.0, 0.0, 7.0], 0.5)?;
+    /// assert_eq!(pillar.axis().to_array(), [0.0, 0.0, 1.0]);
+    /// let err = Cylinder::new([1.0; 3], [1.0; 3], 0.5).unwrap_err();
+    /// assert_eq!((err.field, err.problem), ("axis", Problem::ZeroLength));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn new(p1: [f32; 3], p2: [f32; 3], radius: f32) -> Result<Self, ShapeError> {
         const K: ShapeKind = ShapeKind::Cylinder;
         let p1 = finite_vec(K, "p1", p1)?;
@@ -308,16 +420,36 @@ impl Cylinder {
         })
     }
     /// A point on the axis (`r_C1`).
+    ///
+    /// ```
+    /// use spheresweep::Cylinder;
+    /// let pillar = Cylinder::new([2.0, 0.0, 0.0], [2.0, 0.0, 7.0], 0.5)?;
+    /// assert_eq!(pillar.point().to_array(), [2.0, 0.0, 0.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn point(&self) -> Vec3 {
         self.point
     }
     /// The unit axis direction (`ŝ`).
+    ///
+    /// ```
+    /// use spheresweep::Cylinder;
+    /// let pillar = Cylinder::new([0.0; 3], [0.0, -3.0, 0.0], 0.5)?;
+    /// assert_eq!(pillar.axis().to_array(), [0.0, -1.0, 0.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn axis(&self) -> Vec3 {
         self.axis
     }
     /// Radius (`R_C`).
+    ///
+    /// ```
+    /// use spheresweep::Cylinder;
+    /// assert_eq!(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 0.5)?.radius(), 0.5);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn radius(&self) -> f32 {
         self.radius
@@ -329,6 +461,13 @@ impl Container {
     ///
     /// # Errors
     /// A [`ShapeError`] if a value is NaN or infinite or the radius is negative.
+    ///
+    /// ```
+    /// use spheresweep::Container;
+    /// assert!(Container::new([0.0; 3], 10.0).is_ok());
+    /// let err = Container::new([0.0; 3], -1.0).unwrap_err();
+    /// assert_eq!(err.to_string(), "container radius is negative");
+    /// ```
     pub fn new(centre: [f32; 3], radius: f32) -> Result<Self, ShapeError> {
         const K: ShapeKind = ShapeKind::Container;
         Ok(Self {
@@ -337,11 +476,23 @@ impl Container {
         })
     }
     /// Centre of the vessel.
+    ///
+    /// ```
+    /// use spheresweep::Container;
+    /// assert_eq!(Container::new([1.0, 2.0, 3.0], 10.0)?.centre().to_array(), [1.0, 2.0, 3.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn centre(&self) -> Vec3 {
         self.centre
     }
     /// Inner radius of the vessel.
+    ///
+    /// ```
+    /// use spheresweep::Container;
+    /// assert_eq!(Container::new([0.0; 3], 10.0)?.radius(), 10.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn radius(&self) -> f32 {
         self.radius
