@@ -10,6 +10,17 @@ use glam::DVec3;
 use crate::shape::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
 
 /// Which side of the contact surface the moving sphere starts on.
+///
+/// ```
+/// use spheresweep::{Container, Side, Sphere, reference::Pair};
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Container::new([0.0; 3], 5.0)?.into(),
+/// };
+/// let (_, _, distance, side) = pair.relative();
+/// assert_eq!((distance, side), (4.0, Side::Interior)); // D = R_container − R
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Side {
     /// The bodies approach from outside each other (`D = R_A + R_B`, plane, cylinder).
@@ -36,6 +47,13 @@ pub struct Body {
 
 impl Body {
     /// The body `index` of kind `kind`.
+    ///
+    /// ```
+    /// use spheresweep::{Body, ShapeKind};
+    /// let b = Body::new(ShapeKind::Cylinder, 3);
+    /// assert_eq!((b.kind, b.index), (ShapeKind::Cylinder, 3));
+    /// assert!(Body::new(ShapeKind::Sphere, 9) < b); // spheres sort first
+    /// ```
     #[inline]
     pub const fn new(kind: ShapeKind, index: u32) -> Self {
         Self { kind, index }
@@ -55,6 +73,16 @@ impl std::fmt::Display for Body {
 /// `normal` is the seed's summary-table normal on A: the unit vector that pushes A away from
 /// the other body (for two spheres `(r_A − r_B)/‖r_A − r_B‖`, which the seed's text calls
 /// `n̂_B`, the outward surface normal of B; A's own outward surface normal is `−normal`).
+///
+/// ```
+/// use spheresweep::{Shape, Sphere, contact::contact_at};
+/// let a = Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?;
+/// let b = Shape::Sphere(Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 2.0, 1.0)?);
+/// let c = contact_at(&a, &b, 3.0); // centres 3 apart: touching
+/// assert_eq!((c.centre.x, c.other_anchor.x, c.point.x), (3.0, 6.0, 4.0));
+/// assert_eq!(c.normal.to_array(), [-1.0, 0.0, 0.0]); // pushes A back
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
     /// Time of impact, in `[0, t_max]`.
@@ -118,6 +146,15 @@ pub fn contact_at(sphere: &Sphere, other: &Shape, t: f64) -> Contact {
 }
 
 /// Two spheres at time `t`: the normal is `n̂_B = (r_A − r_B)/‖r_A − r_B‖`.
+///
+/// ```
+/// use spheresweep::{Sphere, contact::sphere_sphere_at};
+/// let a = Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?;
+/// let b = Sphere::new([0.0, 5.0, 0.0], [0.0, -1.0, 0.0], 1.0, 1.0)?;
+/// let c = sphere_sphere_at(&a, &b, 3.0);
+/// assert_eq!((c.point.y, c.normal.y), (1.0, -1.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn sphere_sphere_at(sa: &Sphere, sb: &Sphere, t: f64) -> Contact {
     let r_a = sa.centre().as_dvec3() + sa.velocity().as_dvec3() * t;
     let r_b = sb.centre().as_dvec3() + sb.velocity().as_dvec3() * t;
@@ -138,6 +175,15 @@ pub fn sphere_sphere_at(sa: &Sphere, sb: &Sphere, t: f64) -> Contact {
 
 /// A sphere and a plane at time `t`: the contact point `r_A ∓ R_A n̂_P` and the normal `±n̂_P`
 /// on the side the sphere is on.
+///
+/// ```
+/// use spheresweep::{Plane, Sphere, contact::sphere_plane_at};
+/// let floor = Plane::new([0.0; 3], [0.0, 0.0, 1.0])?;
+/// let below = Sphere::new([0.0, 0.0, -4.0], [0.0, 0.0, 1.0], 1.0, 1.0)?; // comes from below
+/// let c = sphere_plane_at(&below, &floor, 3.0);
+/// assert_eq!((c.point.z, c.normal.z), (0.0, -1.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn sphere_plane_at(s: &Sphere, p: &Plane, t: f64) -> Contact {
     let n_p = unit_normal(p);
     let v_a = s.velocity().as_dvec3();
@@ -164,6 +210,16 @@ pub fn sphere_plane_at(s: &Sphere, p: &Plane, t: f64) -> Contact {
 
 /// A sphere and a cylinder at time `t`: the normal is `D⃗/‖D⃗‖` with
 /// `D⃗ = ŝ × (r_A − r_C1) × ŝ`.
+///
+/// ```
+/// use spheresweep::{Cylinder, Sphere, contact::sphere_cylinder_at};
+/// let pillar = Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?;
+/// let ball = Sphere::new([0.0, 4.0, 7.0], [0.0, -1.0, 0.0], 1.0, 1.0)?;
+/// let c = sphere_cylinder_at(&ball, &pillar, 2.0);
+/// assert_eq!(c.other_anchor.to_array(), [0.0, 0.0, 7.0]); // the foot on the axis
+/// assert_eq!((c.point.y, c.normal.y), (1.0, 1.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn sphere_cylinder_at(sa: &Sphere, cyl: &Cylinder, t: f64) -> Contact {
     let s = unit_axis(cyl);
     let v_a = sa.velocity().as_dvec3();
@@ -183,6 +239,15 @@ pub fn sphere_cylinder_at(sa: &Sphere, cyl: &Cylinder, t: f64) -> Contact {
 
 /// A sphere inside a container at time `t`: the normal points from the wall back towards the
 /// container's centre (it pushes the sphere inwards).
+///
+/// ```
+/// use spheresweep::{Container, Sphere, contact::sphere_container_at};
+/// let vessel = Container::new([0.0; 3], 5.0)?;
+/// let ball = Sphere::new([0.0; 3], [0.0, 0.0, 2.0], 1.0, 1.0)?;
+/// let c = sphere_container_at(&ball, &vessel, 2.0);
+/// assert_eq!((c.point.z, c.normal.z), (5.0, -1.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn sphere_container_at(s: &Sphere, k: &Container, t: f64) -> Contact {
     let r = s.centre().as_dvec3() + s.velocity().as_dvec3() * t;
     let centre = k.centre().as_dvec3();
