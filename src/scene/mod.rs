@@ -9,6 +9,19 @@ use crate::{Container, Cylinder, Plane, Shape, SphereStore};
 
 /// Every body of a scene, validated. The spheres live in a [`SphereStore`], so a query reads
 /// them as they are and builds nothing per call.
+///
+/// ```
+/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, query, scene::Scene};
+/// let scene = Scene {
+///     spheres: SphereStore::from_spheres(&[
+///         Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0)?,
+///     ]),
+///     planes: vec![Plane::new([0.0; 3], [0.0, 0.0, 1.0])?],
+///     ..Scene::default()
+/// };
+/// assert_eq!(query::first_contacts(&scene, QueryOptions::default())[0].unwrap().time, 2.0);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Scene {
     /// Moving spheres.
