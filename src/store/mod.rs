@@ -26,6 +26,15 @@ pub const PAD: usize = 8;
 /// Eight spheres, one f32 column each for what the kernels read: a structure of arrays in
 /// blocks (AoSoA). A lane group is one block, aligned for AVX loads; a batch over a store
 /// streams one array instead of seven. Unused lanes are NaN.
+///
+/// ```
+/// use spheresweep::{Sphere, SphereStore, store::Field};
+/// let store = SphereStore::from_spheres(&[Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 1.0)?]);
+/// let block = &store.blocks()[0];
+/// assert_eq!(block.column(Field::Y).unwrap()[0], 2.0);
+/// assert!(block.column(Field::Y).unwrap()[1].is_nan()); // lanes 1..8 are padding
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(32))]
 pub struct SphereBlock {
@@ -51,6 +60,14 @@ impl SphereBlock {
 
     /// The block's column of `field` (NaN in unused lanes). [`Field::M`] is not held in
     /// blocks (the kernels never read it): it gives `None`.
+    ///
+    /// ```
+    /// use spheresweep::{Sphere, SphereStore, store::Field};
+    /// let store = SphereStore::from_spheres(&[Sphere::new([0.0; 3], [0.0; 3], 0.5, 1.0)?]);
+    /// assert_eq!(store.blocks()[0].column(Field::R).unwrap()[0], 0.5);
+    /// assert_eq!(store.blocks()[0].column(Field::M), None);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn column(&self, field: Field) -> Option<&[f32; PAD]> {
         Some(match field {
@@ -99,6 +116,14 @@ pub struct SphereStore {
 }
 
 /// Building or updating a store failed: each variant names the sphere and the field.
+///
+/// ```
+/// use spheresweep::{SphereStore, StoreError};
+/// let mut store = SphereStore::new();
+/// let err = store.set_velocity(0, [1.0; 3]).unwrap_err();
+/// assert_eq!(err, StoreError::IndexOutOfRange { index: 0, len: 0 });
+/// assert_eq!(err.to_string(), "sphere index 0 is out of range (the store holds 0)");
+/// ```
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StoreError {
     /// An input column's length differs from the first column's.
@@ -142,11 +167,22 @@ fn finite3(index: usize, field: &'static str, v: [f32; 3]) -> Result<(), StoreEr
 
 impl SphereStore {
     /// An empty store.
+    ///
+    /// ```
+    /// use spheresweep::SphereStore;
+    /// let store = SphereStore::new();
+    /// assert_eq!((store.len(), store.padded_len(), store.blocks().len()), (0, 0, 0));
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
 
     /// An empty store with room for `n` spheres.
+    ///
+    /// ```
+    /// use spheresweep::SphereStore;
+    /// assert!(SphereStore::with_capacity(100).is_empty());
+    /// ```
     pub fn with_capacity(n: usize) -> Self {
         Self {
             len: 0,
@@ -156,6 +192,16 @@ impl SphereStore {
     }
 
     /// A store holding `spheres`, in order.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.get(1).unwrap().radius(), 1.5);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn from_spheres(spheres: &[Sphere]) -> Self {
         let mut store = Self::with_capacity(spheres.len());
         spheres.iter().for_each(|s| store.push(s));
@@ -189,6 +235,16 @@ impl SphereStore {
     }
 
     /// Appends a sphere, keeping the columns padded.
+    ///
+    /// ```
+    /// use spheresweep::{Sphere, SphereStore};
+    /// let mut store = SphereStore::new();
+    /// for i in 0..9 {
+    ///     store.push(&Sphere::new([i as f32, 0.0, 0.0], [0.0; 3], 0.5, 1.0)?);
+    /// }
+    /// assert_eq!((store.len(), store.padded_len()), (9, 16)); // a second block of eight
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn push(&mut self, s: &Sphere) {
         let (i, lane) = (self.len / PAD, self.len % PAD);
         if lane == 0 {
@@ -203,24 +259,65 @@ impl SphereStore {
     }
 
     /// Number of spheres.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.len(), 2);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn len(&self) -> usize {
         self.len
     }
 
     /// Whether the store holds no sphere.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert!(!store.is_empty() && SphereStore::new().is_empty());
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// Length of every column: `len()` rounded up to a multiple of [`PAD`].
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.padded_len(), spheresweep::store::PAD);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn padded_len(&self) -> usize {
         self.blocks.len() * PAD
     }
 
     /// Sphere `i`, if there is one (read back as stored: no validation again).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.get(0).unwrap().centre().to_array(), [1.0, 2.0, 3.0]);
+    /// assert_eq!(store.get(2), None);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn get(&self, i: usize) -> Option<Sphere> {
         (i < self.len).then(|| {
@@ -235,11 +332,32 @@ impl SphereStore {
     }
 
     /// Every sphere, in order, by value.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// let masses: Vec<f32> = store.iter().map(|s| s.mass()).collect();
+    /// assert_eq!(masses, [2.0, 3.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn iter(&self) -> impl ExactSizeIterator<Item = Sphere> + '_ {
         (0..self.len).map(|i| self.get(i).expect("index below len"))
     }
 
     /// Every sphere, in order.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.to_spheres()[1].velocity().x, 1.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn to_spheres(&self) -> Vec<Sphere> {
         self.iter().collect()
     }
@@ -260,12 +378,34 @@ impl SphereStore {
 
     /// The blocks of eight, in order (the last one padded with NaN lanes): what the kernels,
     /// the swept boxes and the simulation read.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// use spheresweep::store::Field;
+    /// assert_eq!(store.blocks().len(), 1);
+    /// assert_eq!(&store.blocks()[0].column(Field::X).unwrap()[..2], &[1.0, 4.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn blocks(&self) -> &[SphereBlock] {
         &self.blocks
     }
 
     /// The mass column.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// assert_eq!(store.masses(), [2.0, 3.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[inline]
     pub fn masses(&self) -> &[f32] {
         &self.mass
@@ -295,6 +435,19 @@ impl SphereStore {
     ///
     /// # Errors
     /// If `i` is out of range or a coordinate is NaN or infinite.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let mut store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// store.set_centre(0, [7.0, 8.0, 9.0])?;
+    /// assert_eq!(store.get(0).unwrap().centre().to_array(), [7.0, 8.0, 9.0]);
+    /// let err = store.set_centre(1, [f32::INFINITY, 0.0, 0.0]).unwrap_err();
+    /// assert_eq!(err.to_string(), "sphere 1: sphere centre is NaN or infinite");
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn set_centre(&mut self, i: usize, centre: [f32; 3]) -> Result<(), StoreError> {
         self.check_index(i)?;
         finite3(i, "centre", centre)?;
@@ -306,6 +459,18 @@ impl SphereStore {
     ///
     /// # Errors
     /// If `i` is out of range or a component is NaN or infinite.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore};
+    /// let mut store = SphereStore::from_spheres(&[
+    ///     Sphere::new([1.0, 2.0, 3.0], [0.0; 3], 0.5, 2.0)?,
+    ///     Sphere::new([4.0, 5.0, 6.0], [1.0, 0.0, 0.0], 1.5, 3.0)?,
+    /// ]);
+    /// store.set_velocity(1, [0.0, -2.0, 0.0])?;
+    /// assert_eq!(store.get(1).unwrap().centre_at(1.0).to_array(), [4.0, 3.0, 6.0]);
+    /// assert!(store.set_velocity(2, [0.0; 3]).is_err()); // no sphere 2
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn set_velocity(&mut self, i: usize, velocity: [f32; 3]) -> Result<(), StoreError> {
         self.check_index(i)?;
         finite3(i, "velocity", velocity)?;
