@@ -46,6 +46,14 @@ use crate::sim::SphereState;
 pub const PROPERTIES: &str = "species:S:1:pos:R:3:velo:R:3:radius:R:1:material:I:1";
 
 /// One snapshot read back from a file.
+///
+/// ```
+/// use spheresweep::io::xyz::read_frames;
+/// let text = "1\nProperties=species:S:1:pos:R:3:radius:R:1 Time=2.5\nX 1 2 3 0.5\n";
+/// let frame = &read_frames(text)?[0];
+/// assert_eq!((frame.time, frame.spheres[0].centre.y, frame.periodic_box), (2.5, 2.0, None));
+/// # Ok::<(), spheresweep::io::xyz::XyzError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {
     /// The frame's `Time` (0 when the comment line has none).
@@ -57,6 +65,13 @@ pub struct Frame {
 }
 
 /// A malformed file: the line (counting from 1) and what is wrong there.
+///
+/// ```
+/// use spheresweep::io::xyz::read_frames;
+/// let err = read_frames("2\nProperties=species:S:1:pos:R:3:radius:R:1\nX 1 2 3 0.5\n").unwrap_err();
+/// assert_eq!(err.line, 4);
+/// assert_eq!(err.to_string(), "line 4: the frame ends after 1 of its 2 spheres");
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("line {line}: {problem}")]
 pub struct XyzError {
@@ -77,6 +92,21 @@ impl fmt::Display for Exact {
 
 /// Writes one frame: the count, the comment line (`Lattice` and `pbc="T T T"` when
 /// `periodic_box` is given, `pbc="F F F"` otherwise; `Time`), then one line per sphere.
+///
+/// ```
+/// use glam::DVec3;
+/// use spheresweep::{io::xyz::write_frame, sim::SphereState};
+/// let centre = DVec3::new(1.0, 2.0, 3.0);
+/// let s = SphereState { centre, velocity: DVec3::ZERO, radius: 0.5, mass: 1.0, material: 1 };
+/// let mut out = Vec::new();
+/// write_frame(&mut out, &[s], 0.5, None)?;
+/// let text = String::from_utf8(out).unwrap();
+/// let lines: Vec<&str> = text.lines().collect();
+/// assert_eq!(lines[0], "1");
+/// assert!(lines[1].ends_with(r#"Time=0.5 pbc="F F F""#));
+/// assert_eq!(lines[2], "X 1.0 2.0 3.0 0.0 0.0 0.0 0.5 1");
+/// # Ok::<(), std::io::Error>(())
+/// ```
 pub fn write_frame<W: Write>(
     mut w: W,
     spheres: &[SphereState],
@@ -136,6 +166,17 @@ struct Layout {
 /// generally any frame whose `Properties` has `pos:R:3` and `radius:R:1` (`velo:R:3`,
 /// `material:I:1` and `mass:R:1` are read when present; other columns are skipped). Blank
 /// lines between frames are allowed. Errors name the line.
+///
+/// ```
+/// use spheresweep::io::xyz::read_frames;
+/// // Another tool's file: an extra column (id), a mass column, two frames.
+/// let comment = "Properties=species:S:1:id:I:1:pos:R:3:radius:R:1:mass:R:1 Time=1";
+/// let frame = format!("1\n{comment}\nX 7 0 0 1 0.5 3.0\n");
+/// let frames = read_frames(&format!("{frame}\n{frame}"))?;
+/// assert_eq!(frames.len(), 2);
+/// assert_eq!((frames[1].spheres[0].centre.z, frames[1].spheres[0].mass), (1.0, 3.0));
+/// # Ok::<(), spheresweep::io::xyz::XyzError>(())
+/// ```
 pub fn read_frames(text: &str) -> Result<Vec<Frame>, XyzError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l)).peekable();
     let mut frames = Vec::new();
