@@ -10,6 +10,18 @@ use super::model::{Boundary, SimError, SphereState, World};
 use crate::rng::Rng;
 
 /// Gaussian velocities for unit-free masses, zero total momentum, kinetic energy `3/2 N kT`.
+///
+/// ```
+/// use glam::DVec3;
+/// use spheresweep::sim::{SphereState, generate::thermal_velocities};
+/// let (centre, velocity) = (DVec3::ZERO, DVec3::ZERO);
+/// let at_rest = SphereState { centre, velocity, radius: 0.5, mass: 2.0, material: 0 };
+/// let mut spheres = vec![at_rest; 100];
+/// thermal_velocities(&mut spheres, 1.5, 7);
+/// let energy: f64 = spheres.iter().map(|s| 0.5 * s.mass * s.velocity.length_squared()).sum();
+/// let momentum: DVec3 = spheres.iter().map(|s| s.mass * s.velocity).sum();
+/// assert!((energy - 1.5 * 100.0 * 1.5).abs() < 1e-9 * energy && momentum.length() < 1e-9);
+/// ```
 pub fn thermal_velocities(spheres: &mut [SphereState], kt: f64, seed: u64) {
     let mut rng = Rng::new(seed ^ 0x005e_ed0f_7e3f);
     let n = spheres.len();
@@ -130,6 +142,22 @@ pub fn periodic_gas(
 /// `n` non-overlapping spheres placed at random (random sequential addition) with centres in
 /// the region `inside` accepts within the box `[lo, hi]`, random directions at `speed`.
 /// Fails, naming the count reached, if 1000 attempts in a row find no room.
+///
+/// ```
+/// use glam::DVec3;
+/// use spheresweep::sim::generate::random_spheres;
+/// // 50 spheres of radius 0.5 in a ball of radius 5 about the origin, at speed 2.
+/// let inside = |p: DVec3| p.length() < 4.5;
+/// let (lo, hi) = (DVec3::splat(-5.0), DVec3::splat(5.0));
+/// let spheres = random_spheres(lo, hi, &inside, 50, 0.5, 2.0, 0, 1)?;
+/// for (i, a) in spheres.iter().enumerate() {
+///     assert!(a.centre.length() < 4.5 && (a.velocity.length() - 2.0).abs() < 1e-12);
+///     assert!(spheres[..i].iter().all(|b| a.centre.distance(b.centre) >= 1.0)); // no overlap
+/// }
+/// // 100 of them cannot fit in a box of side 2.
+/// assert!(random_spheres(DVec3::ZERO, DVec3::splat(2.0), &|_| true, 100, 0.5, 1.0, 0, 1).is_err());
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[allow(clippy::too_many_arguments)]
 pub fn random_spheres(
     lo: DVec3,
@@ -213,6 +241,18 @@ pub fn random_spheres(
 /// (spacing `spacing` between centres, at least a diameter), each with velocity `speed` along
 /// the direction tilted at random by up to `spread` radians, and a random sideways offset of up
 /// to `jitter`.
+///
+/// ```
+/// use glam::DVec3;
+/// use spheresweep::sim::generate::nozzle;
+/// // Ten spheres fired along +x from the origin, straight (no spread, no jitter), 1.5 apart.
+/// let jet = nozzle(DVec3::ZERO, DVec3::X, 10, 0.5, 3.0, 1.5, 0.0, 0.0, 0, 1)?;
+/// assert!(jet.iter().all(|s| (s.velocity - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-12));
+/// // The last one 9 spacings behind, give or take the jitter along the stream, (1.5 − 1)/2.
+/// assert!((jet[9].centre.x + 13.5).abs() <= 0.25);
+/// assert!(nozzle(DVec3::ZERO, DVec3::X, 10, 0.5, 3.0, 0.9, 0.0, 0.0, 0, 1).is_err()); // overlapping
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[allow(clippy::too_many_arguments)]
 pub fn nozzle(
     origin: DVec3,
@@ -265,6 +305,15 @@ pub fn nozzle(
 
 /// Spheres on a simple cubic lattice: `counts` per axis from `lo`, `spacing` apart (at least a
 /// diameter), random directions at `speed`.
+///
+/// ```
+/// use glam::DVec3;
+/// use spheresweep::sim::generate::cubic_lattice;
+/// let spheres = cubic_lattice(DVec3::ZERO, [2, 3, 4], 1.5, 0.5, 1.0, 0, 1)?;
+/// assert_eq!(spheres.len(), 24);
+/// assert_eq!(spheres[1].centre, DVec3::new(1.5, 0.0, 0.0)); // x varies fastest
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 pub fn cubic_lattice(
     lo: DVec3,
     counts: [usize; 3],
