@@ -46,6 +46,12 @@ impl std::fmt::Debug for Grid {
 
 impl Grid {
     /// An empty grid.
+    ///
+    /// ```
+    /// use spheresweep::broad::Grid;
+    /// let grid = Grid::new();
+    /// assert!(grid.order().is_empty() && grid.pairs().is_empty());
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
@@ -55,52 +61,197 @@ impl Grid {
     /// # Panics
     /// If `t_max` is not finite and `≥ 0`, or `options.cell_size` is given and not finite and
     /// `> 0` (callers validate both; the scene query never passes an infinite window here).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions { cell_size: Some(4.0), ..GridOptions::default() });
+    /// assert_eq!(grid.cell_size(), 4.0);
+    /// grid.build(&store, 0.0, GridOptions::default()); // sphere 0 no longer reaches sphere 1
+    /// assert!(grid.pairs().is_empty());
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn build(&mut self, store: &SphereStore, t_max: f32, options: GridOptions) {
         self.inner.build(grid::Columns::of(store), t_max, options);
     }
 
     /// Sphere indices in cell order.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// let mut order = grid.order().to_vec();
+    /// order.sort();
+    /// assert_eq!(order, [0, 1, 2]); // each sphere once
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn order(&self) -> &[u32] {
         self.inner.order()
     }
 
     /// Every candidate pair once, as positions `[p, q]` (`p < q`) in [`order`](Self::order).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// let [p, q] = grid.pairs()[0];
+    /// assert!(p < q && grid.pairs().len() == 1);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn pairs(&self) -> &[[u32; 2]] {
         self.inner.pairs()
     }
 
     /// Edge of a cell in the last build.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions { cell_size: Some(8.0), ..GridOptions::default() });
+    /// assert_eq!(grid.cell_size(), 8.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn cell_size(&self) -> f32 {
         self.inner.cell_size()
     }
 
     /// Spheres on the oversize list in the last build (tested against all).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// // Over [0, 10] sphere 0's swept box is 12 wide: it spans more than two cells of 3.
+    /// grid.build(&store, 10.0, GridOptions { cell_size: Some(3.0), ..GridOptions::default() });
+    /// assert_eq!(grid.oversize(), 1);
+    /// assert_eq!(grid.order().last(), Some(&0)); // oversize spheres come last
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn oversize(&self) -> usize {
         self.inner.oversize()
     }
 
     /// Cells per axis of the last build (without the padding layer).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions { cell_size: Some(8.0), ..GridOptions::default() });
+    /// let [nx, ny, nz] = grid.dims();
+    /// assert!(nx * 8 >= 52 && ny == 1 && nz == 1); // the boxes span 52 along x, 2 across
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn dims(&self) -> [u32; 3] {
         self.inner.dims()
     }
 
     /// Cells in the last build's table (dense layout, padding included) or occupied cells
     /// (sparse layout, for scenes too spread out for a dense table).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// use spheresweep::broad::Layout;
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions { cell_size: Some(8.0), layout: Layout::Sparse });
+    /// assert_eq!(grid.cells(), 2); // spheres 0 and 1 (boxes from x = −1 and 4) share a cell
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn cells(&self) -> usize {
         self.inner.cells()
     }
 
     /// Whether the last build used the sparse layout.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// use spheresweep::broad::Layout;
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions { layout: Layout::Dense, ..GridOptions::default() });
+    /// assert!(!grid.sparse());
+    /// grid.build(&store, 4.0, GridOptions { layout: Layout::Sparse, ..GridOptions::default() });
+    /// assert!(grid.sparse());
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn sparse(&self) -> bool {
         self.inner.sparse()
     }
 
     /// Forgets the kept cell order (the next build sorts from the identity order).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// let pairs = grid.pairs().len();
+    /// grid.reset_order();
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// assert_eq!(grid.pairs().len(), pairs); // the same candidates
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn reset_order(&mut self) {
         self.inner.reset_order();
     }
 
     /// Bytes the grid holds on the heap (its buffers, grown to the largest scene so far).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// let mut grid = Grid::new();
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// assert!(grid.heap_bytes() >= 3 * 4); // at least the order, one u32 per sphere
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn heap_bytes(&self) -> usize {
         self.inner.heap_bytes()
     }
