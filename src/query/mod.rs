@@ -28,6 +28,25 @@ use crate::store::{PackedSpheres, SphereStore};
 
 /// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
 /// `sphere` is the lower index and each pair appears once.
+///
+/// ```
+/// use spheresweep::{Body, QueryOptions, ShapeKind, query::all_contacts};
+/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # let scene = Scene {
+/// #     spheres: SphereStore::from_spheres(&[
+/// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+/// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+/// #     ]),
+/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+/// #     ..Scene::default()
+/// # };
+/// let events = all_contacts(&scene, QueryOptions::default());
+/// assert_eq!(events.len(), 2);
+/// let pair = &events[1]; // sorted by time: the floor at 3 comes first
+/// assert_eq!((pair.time, pair.sphere, pair.other), (4.0, 0, Body::new(ShapeKind::Sphere, 1)));
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactEvent {
     /// Time of impact in `[0, t_max]`.
@@ -41,6 +60,26 @@ pub struct ContactEvent {
 }
 
 /// What the last query did: the broad phase's grid and the work each stage saw.
+///
+/// ```
+/// use spheresweep::{Accuracy, QueryOptions, query::SceneQuery};
+/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # let scene = Scene {
+/// #     spheres: SphereStore::from_spheres(&[
+/// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+/// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+/// #     ]),
+/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+/// #     ..Scene::default()
+/// # };
+/// let mut query = SceneQuery::new();
+/// query.first_contacts(&scene, QueryOptions::new(10.0, Accuracy::Stable)?);
+/// let stats = query.stats();
+/// assert_eq!((stats.spheres, stats.grid), (3, true));
+/// assert_eq!(stats.candidate_pairs, 1); // only spheres 0 and 1 have overlapping swept boxes
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct QueryStats {
     /// Spheres in the scene.
@@ -82,11 +121,48 @@ pub struct SceneQuery {
 
 impl SceneQuery {
     /// A query with the grid's automatic cell size.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let mut query = SceneQuery::new();
+    /// let hits = query.first_contacts(&scene, QueryOptions::default());
+    /// assert_eq!(hits.iter().map(|h| h.unwrap().time).collect::<Vec<_>>(), [4.0, 4.0, 3.0]);
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
 
     /// A query with the given grid options (e.g. a fixed cell size).
+    ///
+    /// ```
+    /// use spheresweep::{Accuracy, QueryOptions, broad::GridOptions, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let grid = GridOptions { cell_size: Some(16.0), ..GridOptions::default() };
+    /// let mut query = SceneQuery::with_grid_options(grid);
+    /// query.first_contacts(&scene, QueryOptions::new(10.0, Accuracy::Stable)?);
+    /// assert_eq!(query.stats().cell_size, 16.0);
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn with_grid_options(options: GridOptions) -> Self {
         Self {
             options,
@@ -95,12 +171,50 @@ impl SceneQuery {
     }
 
     /// What the last call did.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let mut query = SceneQuery::new();
+    /// query.all_contacts(&scene, QueryOptions::default()); // an infinite window: no grid
+    /// assert_eq!((query.stats().grid, query.stats().candidate_pairs), (false, 3));
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn stats(&self) -> QueryStats {
         self.stats
     }
 
     /// For every sphere of `scene`, its earliest contact in the window (ties: spheres, then
     /// planes, cylinders, containers, each by index), with geometry if the options ask.
+    ///
+    /// ```
+    /// use spheresweep::{Body, QueryOptions, ShapeKind, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let options = QueryOptions::default().with_geometry(true);
+    /// let hits = SceneQuery::new().first_contacts(&scene, options);
+    /// let floor = hits[2].unwrap();
+    /// assert_eq!((floor.time, floor.body), (3.0, Body::new(ShapeKind::Plane, 0)));
+    /// assert_eq!(floor.geometry.unwrap().point.z, -10.0);
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn first_contacts(
         &mut self,
         scene: &Scene,
@@ -114,6 +228,27 @@ impl SceneQuery {
     /// [`first_contacts`](Self::first_contacts) into a vector the caller keeps between calls
     /// (cleared, then one entry per sphere): no allocation once it has grown, and no fresh
     /// pages to fault in — at a million spheres that is most of the output's cost.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let (mut query, mut hits) = (SceneQuery::new(), Vec::new());
+    /// for _ in 0..2 {
+    ///     query.first_contacts_into(&scene, QueryOptions::default(), &mut hits);
+    /// }
+    /// assert_eq!(hits.len(), 3); // cleared before each call, one entry per sphere
+    /// assert_eq!(hits, query.first_contacts(&scene, QueryOptions::default()));
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn first_contacts_into(
         &mut self,
         scene: &Scene,
@@ -169,6 +304,24 @@ impl SceneQuery {
 
     /// Every contact in the window: each sphere pair once (the lower index first), and every
     /// sphere with every static shape it touches, sorted by time, then sphere, then body.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, ShapeKind, query::SceneQuery};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # let scene = Scene {
+    /// #     spheres: SphereStore::from_spheres(&[
+    /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+    /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+    /// #     ]),
+    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+    /// #     ..Scene::default()
+    /// # };
+    /// let events = SceneQuery::new().all_contacts(&scene, QueryOptions::default());
+    /// let kinds: Vec<_> = events.iter().map(|e| (e.time, e.sphere, e.other.kind)).collect();
+    /// assert_eq!(kinds, [(3.0, 2, ShapeKind::Plane), (4.0, 0, ShapeKind::Sphere)]);
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub fn all_contacts(&mut self, scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
         self.sphere_pairs(scene, options);
         let mut events: Vec<ContactEvent> = self
@@ -349,6 +502,24 @@ pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstC
 }
 
 /// Every contact in the window: [`SceneQuery::all_contacts`] on a new query.
+///
+/// ```
+/// use spheresweep::{QueryOptions, query::{SceneQuery, all_contacts}};
+/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # let scene = Scene {
+/// #     spheres: SphereStore::from_spheres(&[
+/// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+/// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+/// #     ]),
+/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+/// #     ..Scene::default()
+/// # };
+/// let options = QueryOptions::default();
+/// assert_eq!(all_contacts(&scene, options), SceneQuery::new().all_contacts(&scene, options));
+/// assert_eq!(all_contacts(&scene, options)[0].time, 3.0);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 pub fn all_contacts(scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
     SceneQuery::new().all_contacts(scene, options)
 }
