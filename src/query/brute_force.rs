@@ -41,6 +41,25 @@ pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstC
 }
 
 /// Every contact in the window, every pair tested, sorted by time, then sphere, then body.
+///
+/// ```
+/// use spheresweep::{QueryOptions, query};
+/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # let scene = Scene {
+/// #     spheres: SphereStore::from_spheres(&[
+/// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+/// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+/// #     ]),
+/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
+/// #     ..Scene::default()
+/// # };
+/// let options = QueryOptions::default();
+/// let events = query::brute_force::all_contacts(&scene, options);
+/// assert_eq!(events, query::all_contacts(&scene, options)); // the grid misses nothing
+/// assert_eq!(events.iter().map(|e| e.time).collect::<Vec<_>>(), [3.0, 4.0]);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 pub fn all_contacts(scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
     let store = &scene.spheres;
     let n = store.len();
