@@ -26,6 +26,17 @@ use crate::contact::{Body, Contact};
 
 /// The earliest contact of one sphere: when, with which body, and — only if the options asked
 /// for it — the contact geometry (computed in f64 at `time`).
+///
+/// ```
+/// use spheresweep::{Container, QueryOptions, ShapeKind, Sphere, SphereStore, batch};
+/// let vessel = [Container::new([0.0; 3], 5.0)?];
+/// let balls = SphereStore::from_spheres(&[Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?]);
+/// let options = QueryOptions::default().with_geometry(true);
+/// let hit = batch::earliest_static_contacts(&balls, &vessel, options)[0].unwrap();
+/// assert_eq!((hit.time, hit.body.kind), (4.0, ShapeKind::Container));
+/// assert_eq!(hit.geometry.unwrap().point.to_array(), [5.0, 0.0, 0.0]); // on the wall
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FirstContact {
     /// Time of impact in `[0, t_max]`.
@@ -37,6 +48,13 @@ pub struct FirstContact {
 }
 
 /// A batch call's arguments do not fit together.
+///
+/// ```
+/// use spheresweep::{BatchError, QueryOptions, SphereStore, batch::pair_times};
+/// let store = SphereStore::new();
+/// let err = pair_times(&store, &[[0, 1]], QueryOptions::default(), &mut [0.0]).unwrap_err();
+/// assert_eq!(err, BatchError::IndexOutOfRange { pair: 0, index: 0, len: 0 });
+/// ```
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BatchError {
     /// The window's end is NaN or negative.

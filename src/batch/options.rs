@@ -27,6 +27,12 @@ impl QueryOptions {
     ///
     /// # Errors
     /// [`BatchError::Window`] if `t_max` is NaN or negative (`+∞` is allowed).
+    ///
+    /// ```
+    /// use spheresweep::{Accuracy, BatchError, QueryOptions};
+    /// assert!(QueryOptions::new(f32::INFINITY, Accuracy::Double).is_ok());
+    /// assert!(matches!(QueryOptions::new(f32::NAN, Accuracy::Double), Err(BatchError::Window(_))));
+    /// ```
     pub fn new(t_max: f32, accuracy: Accuracy) -> Result<Self, BatchError> {
         if t_max.is_nan() || t_max < 0.0 {
             return Err(BatchError::Window(t_max));
@@ -39,24 +45,47 @@ impl QueryOptions {
     }
 
     /// The same query, with or without contact geometry.
+    ///
+    /// ```
+    /// use spheresweep::QueryOptions;
+    /// assert!(QueryOptions::default().with_geometry(true).geometry());
+    /// ```
     #[must_use]
     pub fn with_geometry(self, geometry: bool) -> Self {
         Self { geometry, ..self }
     }
 
     /// End of the window.
+    ///
+    /// ```
+    /// use spheresweep::{Accuracy, QueryOptions};
+    /// assert_eq!(QueryOptions::new(2.5, Accuracy::Stable)?.t_max(), 2.5);
+    /// assert_eq!(QueryOptions::default().t_max(), f32::INFINITY);
+    /// # Ok::<(), spheresweep::BatchError>(())
+    /// ```
     #[inline]
     pub fn t_max(&self) -> f32 {
         self.t_max
     }
 
     /// Accuracy mode.
+    ///
+    /// ```
+    /// use spheresweep::{Accuracy, QueryOptions};
+    /// assert_eq!(QueryOptions::new(1.0, Accuracy::Textbook)?.accuracy(), Accuracy::Textbook);
+    /// # Ok::<(), spheresweep::BatchError>(())
+    /// ```
     #[inline]
     pub fn accuracy(&self) -> Accuracy {
         self.accuracy
     }
 
     /// Whether contact geometry is computed.
+    ///
+    /// ```
+    /// use spheresweep::QueryOptions;
+    /// assert!(!QueryOptions::default().geometry()); // times only, unless asked
+    /// ```
     #[inline]
     pub fn geometry(&self) -> bool {
         self.geometry

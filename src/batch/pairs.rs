@@ -184,6 +184,19 @@ pub(crate) fn listed_times<G: Gather>(
 ///
 /// # Errors
 /// If `out` does not have one slot per sphere of `block`.
+///
+/// ```
+/// use spheresweep::{QueryOptions, Sphere, SphereStore, batch::one_against_times};
+/// let ball = Sphere::new([0.0; 3], [2.0, 0.0, 0.0], 1.0, 1.0)?;
+/// let block = SphereStore::from_spheres(&[
+///     Sphere::new([10.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?, // gap 8 at speed 2
+///     Sphere::new([0.0, 10.0, 0.0], [0.0; 3], 1.0, 1.0)?, // never reached
+/// ]);
+/// let mut out = [0.0; 2];
+/// one_against_times(&ball, &block, QueryOptions::default(), &mut out)?;
+/// assert_eq!(out, [4.0, f32::INFINITY]);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
 pub fn one_against_times(
     sphere: &Sphere,
     block: &SphereStore,

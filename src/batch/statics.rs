@@ -15,6 +15,12 @@ use crate::store::SphereStore;
 
 /// A static shape kind that every sphere is tested against: [`Plane`], [`Cylinder`],
 /// [`Container`]. Sealed: the kernels behind it are the crate's own.
+///
+/// ```
+/// use spheresweep::{Cylinder, Plane, ShapeKind, batch::StaticShape};
+/// assert_eq!(<Plane as StaticShape>::KIND, ShapeKind::Plane);
+/// assert_eq!(Cylinder::KIND, ShapeKind::Cylinder);
+/// ```
 pub trait StaticShape: StaticKernel + Copy + Into<Shape> + Sync {
     /// Which kind of body it is.
     const KIND: ShapeKind;
