@@ -8,6 +8,17 @@ use super::{Side, sphere_container, sphere_cylinder, sphere_plane, sphere_sphere
 use crate::{Accuracy, Shape, Sphere};
 
 /// A moving sphere ("A") and the body it may touch.
+///
+/// ```
+/// use spheresweep::{Cylinder, Sphere, reference::Pair};
+/// let pair = Pair {
+///     sphere: Sphere::new([6.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 1.0, 1.0)?,
+///     other: Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?.into(),
+/// };
+/// assert_eq!(pair.time_of_impact(10.0), Some(4.0));
+/// assert_eq!(spheresweep::time_of_impact(&pair.sphere, &pair.other, Default::default()), Some(4.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pair {
     /// The moving sphere.
@@ -39,6 +50,19 @@ impl Pair {
     }
 
     /// `(r0, v, D, side)` of the seed's quadratic in f64 (a plane's embedded along x).
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use spheresweep::{Plane, Side, Sphere, reference::Pair};
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0, 1.0)?,
+    ///     other: Plane::new([0.0; 3], [0.0, 0.0, 1.0])?.into(),
+    /// };
+    /// // Height 3 above the plane, rising at 0.5, D = R_A = 1.
+    /// let (r0, v) = (DVec3::new(3.0, 0.0, 0.0), DVec3::new(0.5, 0.0, 0.0));
+    /// assert_eq!(pair.relative(), (r0, v, 1.0, Side::Exterior));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn relative(&self) -> (DVec3, DVec3, f64, Side) {
         let s = &self.sphere;
         let (c, v, r) = (
@@ -77,6 +101,17 @@ impl Pair {
     /// rounding scale; see docs/derivations/accuracy.md). `stable` measures a plane's or a
     /// cylinder's `r0` with compensated dot products: its rounding scale is `|r0|` plus a
     /// second-order `2⁻²⁰(|c| + |r_P0|)` ("Compensated offsets").
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // A at rest at (3, 4, 0); B from the origin up z at speed 12.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([3.0, 4.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([0.0; 3], [0.0, 0.0, 12.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(pair.operand_scale(spheresweep::Accuracy::Stable), 5.0); // ‖r_B0 − r_A0‖
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn operand_scale(&self, mode: Accuracy) -> f64 {
         let c = self.sphere.centre().as_dvec3();
         let compensated = |point: DVec3| {
@@ -96,6 +131,18 @@ impl Pair {
     /// The largest coordinate magnitude of the bodies' positions at `t = 0` and at time `t`:
     /// the scale of the scene's own f32 rounding. A plane or a cylinder is placed by its foot
     /// (its point nearest the origin), not by the arbitrary point it was given.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // A at rest at (3, 4, 0); B from the origin up z at speed 12.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([3.0, 4.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([0.0; 3], [0.0, 0.0, 12.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(pair.coordinate_scale(0.0), 5.0); // A's ‖(3, 4, 0)‖
+    /// assert_eq!(pair.coordinate_scale(1.0), 12.0); // B at (0, 0, 12)
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn coordinate_scale(&self, t: f64) -> f64 {
         let s = &self.sphere;
         let at = |c: Vec3, v: Vec3| (c.as_dvec3() + v.as_dvec3() * t).length();
@@ -124,6 +171,17 @@ impl Pair {
     }
 
     /// Full relative speed (sphere pairs) or the sphere's speed (static shapes).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // A at rest at (3, 4, 0); B from the origin up z at speed 12.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([3.0, 4.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([0.0; 3], [0.0, 0.0, 12.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(pair.speed(), 12.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn speed(&self) -> f64 {
         let v = self.sphere.velocity().as_dvec3();
         match &self.other {

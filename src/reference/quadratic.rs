@@ -14,6 +14,15 @@
 use crate::contact::Side;
 
 /// The coefficients of `A t² + B t + C = 0`, exactly as the seed defines them per pair kind.
+///
+/// ```
+/// use spheresweep::{Sphere, reference::{Quadratic, sphere_sphere}};
+/// // B 10 ahead of A and closing at speed 2, D = 2: A = 4, B = 2·(10·−2), C = 10² − 2².
+/// let a = Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?;
+/// let b = Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?;
+/// assert_eq!(sphere_sphere::quadratic(&a, &b), Quadratic { a: 4.0, b: -40.0, c: 96.0 });
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Quadratic {
     /// `A = v·v` (never negative).
@@ -25,6 +34,13 @@ pub struct Quadratic {
 }
 
 /// The seed's classification of the roots of a [`Quadratic`].
+///
+/// ```
+/// use spheresweep::reference::{Quadratic, Roots};
+/// assert_eq!(Quadratic { a: 0.0, b: 0.0, c: 1.0 }.roots(), Roots::NoMotion);
+/// assert_eq!(Quadratic { a: 1.0, b: 0.0, c: 1.0 }.roots(), Roots::Complex); // t² + 1
+/// assert_eq!(Quadratic { a: 1.0, b: -2.0, c: 1.0 }.roots(), Roots::Double(1.0)); // (t − 1)²
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Roots {
     /// `A = 0`: no relative motion (the seed's "division by zero" case): never a contact.
@@ -39,6 +55,11 @@ pub enum Roots {
 
 impl Quadratic {
     /// The discriminant `B² − 4AC`, literally.
+    ///
+    /// ```
+    /// use spheresweep::reference::Quadratic;
+    /// assert_eq!(Quadratic { a: 1.0, b: -3.0, c: 2.0 }.discriminant(), 1.0); // 9 − 8
+    /// ```
     #[inline]
     pub fn discriminant(&self) -> f64 {
         self.b * self.b - 4.0 * self.a * self.c
@@ -71,6 +92,12 @@ impl Quadratic {
 
 impl Roots {
     /// All the roots, smallest first.
+    ///
+    /// ```
+    /// use spheresweep::reference::Roots;
+    /// assert_eq!(Roots::Distinct(-1.0, 2.0).all().collect::<Vec<_>>(), [-1.0, 2.0]);
+    /// assert_eq!(Roots::Complex.all().count(), 0);
+    /// ```
     pub fn all(&self) -> impl Iterator<Item = f64> {
         let (first, second) = match *self {
             Roots::NoMotion | Roots::Complex => (None, None),
@@ -80,11 +107,22 @@ impl Roots {
         first.into_iter().chain(second)
     }
     /// The roots that lie ahead (`t > 0`): physical contacts.
+    ///
+    /// ```
+    /// use spheresweep::reference::Roots;
+    /// assert_eq!(Roots::Distinct(-1.0, 2.0).ahead().collect::<Vec<_>>(), [2.0]);
+    /// assert_eq!(Roots::Double(0.0).ahead().count(), 0); // t = 0 is neither ahead nor behind
+    /// ```
     pub fn ahead(&self) -> impl Iterator<Item = f64> {
         self.all().filter(|&t| t > 0.0)
     }
     /// The roots that lie behind (`t < 0`): contacts that would have happened in the past,
     /// discarded by the seed.
+    ///
+    /// ```
+    /// use spheresweep::reference::Roots;
+    /// assert_eq!(Roots::Distinct(-3.0, -1.0).behind().collect::<Vec<_>>(), [-3.0, -1.0]);
+    /// ```
     pub fn behind(&self) -> impl Iterator<Item = f64> {
         self.all().filter(|&t| t < 0.0)
     }
@@ -94,6 +132,16 @@ impl Roots {
 /// container `B = 0` with `A > 0` counts: `g(t) = A t² + C` grows at once (a sphere touching
 /// the wall and moving tangentially, or fitting exactly and moving, leaves at once). Outside,
 /// the same case separates.
+///
+/// ```
+/// use spheresweep::reference::{Quadratic, Side, quadratic::moving_deeper};
+/// // Touching (C = 0) and approaching (B < 0) from outside: a contact at t = 0.
+/// assert!(moving_deeper(Side::Exterior, &Quadratic { a: 1.0, b: -2.0, c: 0.0 }));
+/// // Touching and separating (B > 0): none.
+/// assert!(!moving_deeper(Side::Exterior, &Quadratic { a: 1.0, b: 2.0, c: 0.0 }));
+/// // At the wall of a container, moving tangentially (B = 0, A > 0): leaving at once.
+/// assert!(moving_deeper(Side::Interior, &Quadratic { a: 1.0, b: 0.0, c: 0.0 }));
+/// ```
 #[inline]
 pub fn moving_deeper(side: Side, q: &Quadratic) -> bool {
     match side {

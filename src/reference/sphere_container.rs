@@ -14,6 +14,15 @@ fn contact_distance(s: &Sphere, k: &Container) -> f64 {
 }
 
 /// The seed's coefficients: `r0 = r_sphere0 − r_container`, `v = v_sphere`.
+///
+/// ```
+/// use spheresweep::{Container, Sphere, reference::{Quadratic, sphere_container}};
+/// // r0 = 0, v = (0, 0, 2), D = 5 − 1: A = 4, B = 0, C = −16.
+/// let vessel = Container::new([0.0; 3], 5.0)?;
+/// let s = Sphere::new([0.0; 3], [0.0, 0.0, 2.0], 1.0, 1.0)?;
+/// assert_eq!(sphere_container::quadratic(&s, &vessel), Quadratic { a: 4.0, b: 0.0, c: -16.0 });
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn quadratic(s: &Sphere, k: &Container) -> Quadratic {
     let r0 = s.centre().as_dvec3() - k.centre().as_dvec3();
     let v = s.velocity().as_dvec3();
@@ -26,6 +35,17 @@ pub fn quadratic(s: &Sphere, k: &Container) -> Quadratic {
 }
 
 /// The earliest time in `[0, t_max]` at which the sphere reaches the container's wall.
+///
+/// ```
+/// use spheresweep::{Container, Sphere, reference::sphere_container};
+/// let vessel = Container::new([0.0; 3], 5.0)?;
+/// let s = Sphere::new([0.0; 3], [0.0, 0.0, 2.0], 1.0, 1.0)?;
+/// // Roots ±2: the sphere arrives at the wall at the larger one.
+/// assert_eq!(sphere_container::time_of_impact(&s, &vessel, 10.0), Some(2.0));
+/// let too_big = Sphere::new([0.0; 3], [0.0; 3], 6.0, 1.0)?;
+/// assert_eq!(sphere_container::time_of_impact(&too_big, &vessel, 10.0), Some(0.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn time_of_impact(s: &Sphere, k: &Container, t_max: f64) -> Option<f64> {
     if contact_distance(s, k) < 0.0 {
         return Some(0.0).filter(|_| t_max >= 0.0);

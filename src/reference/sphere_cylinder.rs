@@ -9,6 +9,15 @@ use crate::contact::{perpendicular, unit_axis};
 use crate::{Cylinder, Sphere};
 
 /// The seed's coefficients for a sphere and a cylinder, in f64.
+///
+/// ```
+/// use spheresweep::{Cylinder, Sphere, reference::{Quadratic, sphere_cylinder}};
+/// // Only the parts across the axis count: r0 = (6, 0, 0), v = (−1, 0, 0), D = 2.
+/// let pillar = Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?;
+/// let s = Sphere::new([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0, 1.0)?;
+/// assert_eq!(sphere_cylinder::quadratic(&s, &pillar), Quadratic { a: 1.0, b: -12.0, c: 32.0 });
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn quadratic(sa: &Sphere, cyl: &Cylinder) -> Quadratic {
     let s = unit_axis(cyl);
     let r0 = perpendicular(s, sa.centre().as_dvec3() - cyl.point().as_dvec3());
@@ -22,6 +31,16 @@ pub fn quadratic(sa: &Sphere, cyl: &Cylinder) -> Quadratic {
 }
 
 /// The earliest time in `[0, t_max]` at which the sphere touches the cylinder.
+///
+/// ```
+/// use spheresweep::{Cylinder, Sphere, reference::sphere_cylinder};
+/// let pillar = Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 1.0)?;
+/// let s = Sphere::new([6.0, 0.0, 3.0], [-1.0, 0.0, 0.5], 1.0, 1.0)?;
+/// assert_eq!(sphere_cylinder::time_of_impact(&s, &pillar, 10.0), Some(4.0)); // roots 4 and 8
+/// let along = Sphere::new([6.0, 0.0, 3.0], [0.0, 0.0, 1.0], 1.0, 1.0)?;
+/// assert_eq!(sphere_cylinder::time_of_impact(&along, &pillar, 10.0), None); // parallel to the axis
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn time_of_impact(sa: &Sphere, cyl: &Cylinder, t_max: f64) -> Option<f64> {
     earliest_contact(&quadratic(sa, cyl), Side::Exterior, t_max)
 }

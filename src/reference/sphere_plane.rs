@@ -10,6 +10,15 @@ use crate::contact::unit_normal;
 use crate::{Plane, Sphere};
 
 /// The seed's coefficients for a sphere and a plane, in f64.
+///
+/// ```
+/// use spheresweep::{Plane, Sphere, reference::{Quadratic, sphere_plane}};
+/// // R0 = 5, v = −2, D = 1: A = 4, B = −20, C = 24.
+/// let floor = Plane::new([0.0; 3], [0.0, 0.0, 1.0])?;
+/// let s = Sphere::new([0.0, 0.0, 5.0], [0.0, 0.0, -2.0], 1.0, 1.0)?;
+/// assert_eq!(sphere_plane::quadratic(&s, &floor), Quadratic { a: 4.0, b: -20.0, c: 24.0 });
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn quadratic(s: &Sphere, p: &Plane) -> Quadratic {
     let n = unit_normal(p);
     let r0 = (s.centre().as_dvec3() - p.point().as_dvec3()).dot(n);
@@ -23,6 +32,16 @@ pub fn quadratic(s: &Sphere, p: &Plane) -> Quadratic {
 }
 
 /// The earliest time in `[0, t_max]` at which the sphere touches the plane (either side).
+///
+/// ```
+/// use spheresweep::{Plane, Sphere, reference::sphere_plane};
+/// let floor = Plane::new([0.0; 3], [0.0, 0.0, 1.0])?;
+/// let above = Sphere::new([0.0, 0.0, 5.0], [0.0, 0.0, -2.0], 1.0, 1.0)?;
+/// let below = Sphere::new([0.0, 0.0, -5.0], [0.0, 0.0, 2.0], 1.0, 1.0)?;
+/// assert_eq!(sphere_plane::time_of_impact(&above, &floor, 10.0), Some(2.0));
+/// assert_eq!(sphere_plane::time_of_impact(&below, &floor, 10.0), Some(2.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn time_of_impact(s: &Sphere, p: &Plane, t_max: f64) -> Option<f64> {
     earliest_contact(&quadratic(s, p), Side::Exterior, t_max)
 }
