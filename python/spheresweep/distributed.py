@@ -445,6 +445,13 @@ class SlabPlan:
     members: tuple
     owned: tuple
 
+    def __repr__(self) -> str:
+        held = [len(m) for m in self.members]
+        return (
+            f"SlabPlan(axis={self.axis}, partitions={self.partitions}, halo={self.halo:.6g}, "
+            f"spheres={len(self.owner)}, held per slab={held})"
+        )
+
     @property
     def partitions(self) -> int:
         """Number of slabs."""
@@ -521,6 +528,9 @@ class ContactTable:
     def __len__(self) -> int:
         return len(self.time)
 
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(<{len(self)} rows>, {self.plan!r})"
+
 
 @dataclass(frozen=True)
 class FirstContactTable:
@@ -536,6 +546,9 @@ class FirstContactTable:
 
     def __len__(self) -> int:
         return len(self.time)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(<{len(self)} rows>, {self.plan!r})"
 
 
 def _local_scene(part, specs):

@@ -193,17 +193,39 @@ def test_sharded_spheres_against_shapes_match_the_scene_query(client, tmp_path):
 # The scene partitioned in slabs
 
 
-def crowded_scene(seed=11, n=5_000):
-    """Spheres in a 64 x 16 x 16 box (speeds up to ~1.7, radii 0.2-0.5) with a floor, a tilted
-    wall, a pillar and a container: with t_max = 1 many contact pairs straddle slab borders."""
+def crowded_scene(seed=11, n=10_000):
+    """Spheres in a 128 x 16 x 16 box (speeds up to ~1.7, radii 0.2-0.5) with a floor, a tilted
+    wall, a pillar and a container: with t_max = 1 many contact pairs straddle slab borders.
+
+    Before them come head-on pairs that make the derived halo tight: the fastest spheres
+    (radius 0.5, speed 1.73, so the halo is 2 (0.5 + 1.73 t_max)), the lower index just left of
+    a border of the 4- and 8-slab plans (x = 32, 64, 96 give or take a few spacings), its
+    partner almost a halo width to the right: they touch just before t_max, and only a slab
+    whose halo reaches that far finds them.
+    """
     rng = np.random.default_rng(seed)
-    centres = rng.uniform([0, 0, 0], [64, 16, 16], (n, 3))
+    centres = rng.uniform([0, 0, 0], [128, 16, 16], (n, 3))
     velocities = rng.uniform(-1, 1, (n, 3))
     radii = rng.uniform(0.2, 0.5, n)
+    speed, radius, t_max = 1.73, 0.5, 1.0
+    gap = 2 * (radius + speed * t_max) - 0.01  # centres' distance: touch at t = 0.997
+    tight_c, tight_v = [], []
+    for border in np.quantile(centres[:, 0], [0.25, 0.5, 0.75]):
+        for _ in range(8):
+            y, z = rng.uniform(1, 15, 2)
+            left = border - 0.2
+            tight_c += [[left, y, z], [left + gap, y, z]]
+            tight_v += [[speed, 0, 0], [-speed, 0, 0]]
+    centres = np.concatenate([tight_c, centres])
+    velocities = np.concatenate([tight_v, velocities])
+    radii = np.concatenate([np.full(len(tight_c), radius), radii])
     shapes = dict(
-        planes=[ss.Plane([0, 0, 0], [0, 0, 1]), ss.Plane([0, 16, 0], [0.2, -1, 0.1])],
-        cylinders=[ss.Cylinder([20, 8, 0], [20, 8, 1], 1.5)],
-        containers=[ss.Container([32, 8, 8], 34.0)],
+        planes=[
+            ss.Plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+            ss.Plane([0.0, 16.0, 0.0], [0.2, -1.0, 0.1]),
+        ],
+        cylinders=[ss.Cylinder([40.0, 8.0, 0.0], [40.0, 8.0, 1.0], 1.5)],
+        containers=[ss.Container([64.0, 8.0, 8.0], 65.5)],
     )
     return centres, velocities, radii, shapes
 
@@ -226,14 +248,14 @@ def test_partitioned_all_contacts_match_one_machine(client, accuracy):
     t_max = 1.0
     got = sd.all_contacts(
         centres, velocities, radii, **shapes, t_max=t_max, accuracy=accuracy,
-        geometry=True, partitions=4, client=client,
+        geometry=True, partitions=8, client=client,
     )  # fmt: skip
     expected = ss.all_contacts(
         whole_scene(centres, velocities, radii, shapes), t_max=t_max, accuracy=accuracy,
         geometry=True,
     )  # fmt: skip
 
-    assert got.plan.partitions == 4 and got.plan.axis == 0
+    assert got.plan.partitions == 8 and got.plan.axis == 0
     assert straddling_pairs(expected, got.plan) >= 100  # the borders are exercised
     assert {1, 2, 3, 4} <= set(np.asarray(expected.kind).tolist())
     np.testing.assert_array_equal(bits(got.time), bits(expected.time))
@@ -248,7 +270,7 @@ def test_partitioned_first_contacts_match_one_machine(client):
     centres, velocities, radii, shapes = crowded_scene(seed=12)
     t_max = 1.0
     got = sd.first_contacts(
-        centres, velocities, radii, **shapes, t_max=t_max, geometry=True, partitions=5,
+        centres, velocities, radii, **shapes, t_max=t_max, geometry=True, partitions=8,
         client=client,
     )  # fmt: skip
     expected = ss.first_contacts(
@@ -270,26 +292,30 @@ def test_a_halo_below_the_derived_width_loses_contacts(client):
     centres, velocities, radii, shapes = crowded_scene(seed=13)
     t_max = 1.0
     derived = sd.reach_halo(velocities, radii, t_max)
+    assert derived == pytest.approx(2 * (0.5 + 1.73 * t_max), rel=1e-6)  # the tight pairs' reach
     full = sd.all_contacts(
         centres, velocities, radii, **shapes, t_max=t_max, partitions=4, client=client
     )
     assert full.plan.halo >= derived  # the default is the derived width, widened
-    # Slabs (~16 wide) without any halo and with half the derived one.
+    expected = ss.all_contacts(whole_scene(centres, velocities, radii, shapes), t_max=t_max)
+    np.testing.assert_array_equal(full.sphere, expected.sphere)
+    np.testing.assert_array_equal(bits(full.time), bits(expected.time))
+    full_rows = set(zip(full.sphere.tolist(), full.kind.tolist(), full.index.tolist()))
     lost = {}
-    for fraction in (0.0, 0.5):
+    for fraction in (0.9, 0.5, 0.0):
         narrow = sd.all_contacts(
             centres, velocities, radii, **shapes, t_max=t_max, partitions=4,
             halo=fraction * derived, client=client,
         )  # fmt: skip
-        full_rows = set(zip(full.sphere.tolist(), full.kind.tolist(), full.index.tolist()))
-        narrow_rows = set(zip(narrow.sphere.tolist(), narrow.kind.tolist(), narrow.index.tolist()))
-        assert narrow_rows < full_rows  # a strict subset: contacts lost, none invented
-        missing = np.array(sorted(full_rows - narrow_rows))
+        rows = set(zip(narrow.sphere.tolist(), narrow.kind.tolist(), narrow.index.tolist()))
+        assert rows < full_rows  # a strict subset: contacts lost, none invented
+        missing = np.array(sorted(full_rows - rows))
         # Every lost contact is a pair across a border, never a static contact.
         assert (missing[:, 1] == 1).all()
         assert (full.plan.owner[missing[:, 0]] != full.plan.owner[missing[:, 2]]).all()
         lost[fraction] = len(missing)
-    assert lost[0.0] > lost[0.5] > 0
+    # 10 % less than the derived width already loses the tight pairs (24 of them at 3 borders).
+    assert 0 < lost[0.9] < lost[0.5] < lost[0.0]
 
 
 def test_partitioned_query_refusals(client):
