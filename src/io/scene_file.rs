@@ -612,6 +612,16 @@ impl SceneFile {
         Ok(scene)
     }
 
+    /// How many spheres [`build`](Self::build) would make: the `[[sphere]]` entries plus each
+    /// `[[generate]]` block's count, read without generating anything, so that a caller can
+    /// refuse a scene too large for memory before it is built. `None` if a block's count is
+    /// missing or the total overflows (`build` then names the block).
+    pub fn sphere_count(&self) -> Option<usize> {
+        self.generate
+            .iter()
+            .try_fold(self.sphere.len(), |total, g| total.checked_add(g.count()?))
+    }
+
     /// The file this scene was read from, if any.
     pub fn path(&self) -> Option<&Path> {
         self.origin.file.as_deref()

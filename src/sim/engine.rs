@@ -302,6 +302,35 @@ pub(crate) struct Engine<
     width: f64,
 }
 
+/// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
+/// from the sizes of its arrays (the ones [`Engine::bytes`] counts) as [`Engine::new`] sizes
+/// them: per sphere its body, mass, material, counter, prediction, version, order, cell entry
+/// and a pending calendar entry; one calendar bucket per sphere (rounded up to a power of
+/// two) holding up to four entries, and eight slots per cell. Known before anything is
+/// allocated.
+pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
+    use std::mem::size_of;
+    let per_sphere = size_of::<Dyn>()
+        + size_of::<f64>()
+        + size_of::<u16>()
+        + size_of::<u32>()
+        + size_of::<Best>()
+        + size_of::<u32>()
+        + size_of::<u32>()
+        // The grid's `slot_of` and `at` (cells.rs).
+        + size_of::<u32>()
+        + size_of::<[i32; 3]>()
+        // Its pending entry where the buckets do not hold it (the heap, the far list).
+        + size_of::<Entry>();
+    // The grid's eight `slots` and one `count` per cell, as `Cells::new` makes them.
+    let per_cell = 8 * size_of::<u32>() + size_of::<u32>();
+    let buckets = n.max(2).checked_next_power_of_two().unwrap_or(usize::MAX);
+    n.saturating_mul(per_sphere)
+        // A bucket in use holds at least the four entries a growing `Vec` starts with.
+        .saturating_add(buckets.saturating_mul(size_of::<Vec<Entry>>() + 4 * size_of::<Entry>()))
+        .saturating_add(max_cells.saturating_mul(per_cell))
+}
+
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
     Engine<R, PERIODIC, WALLS, GEOMETRY>
 {

@@ -497,6 +497,26 @@ impl Simulation {
         self.engine.bytes() + self.masses.capacity() * 8 + self.materials.capacity() * 2
     }
 
+    /// Bytes a simulation of `spheres` spheres will hold, estimated before its world is built
+    /// (from the sizes of the engine's arrays, with the largest grid `new` makes: four cells
+    /// per sphere), so that a caller can refuse a scene too large for memory up front. The
+    /// world handed to [`new`](Self::new) (about 72 bytes a sphere) is not counted. Within a
+    /// factor of two above [`memory_bytes`](Self::memory_bytes) of a fresh simulation (tested).
+    ///
+    /// ```
+    /// use spheresweep::sim::Simulation;
+    /// let bytes = Simulation::estimated_bytes(1_000_000);
+    /// assert!(bytes > 100_000_000 && bytes < 1_000_000_000);
+    /// ```
+    pub fn estimated_bytes(spheres: usize) -> usize {
+        let max_cells = spheres
+            .saturating_mul(4)
+            .max(27)
+            .max(spheres.saturating_mul(2).saturating_add(64));
+        engine::estimated_bytes(spheres, max_cells)
+            .saturating_add(spheres.saturating_mul(std::mem::size_of::<f64>() + 2))
+    }
+
     /// The whole dynamic state as bytes: restored with [`restore`](Self::restore) into the same
     /// world, the run continues bit for bit as this one would. Take it between
     /// [`advance_with`](Self::advance_with) calls (or when one stops early); unread event
@@ -734,6 +754,41 @@ mod tests {
                 ..Effects::default()
             },
             ..World::default()
+        }
+    }
+
+    /// The up-front estimate is an upper bound on what a fresh simulation holds, and not
+    /// more than twice it: for periodic gases (four cells per sphere at most), an open scene
+    /// in a container (`2n + 64` cells at most), one sphere and none. Tiny worlds may also
+    /// get the fixed part of the largest grid (`2n + 64` cells of 36 B and two buckets of
+    /// 88 B: under 4 KiB for `n ≤ 1`).
+    #[test]
+    fn the_memory_estimate_bounds_a_fresh_simulation_within_a_factor_of_two() {
+        let mut worlds = Vec::new();
+        for (n, phi) in [(500, 0.3), (4000, 0.25), (20_000, 0.05)] {
+            let mut w = World::default();
+            generate::periodic_gas(&mut w, n, phi, 0.5, 1.0, 1).unwrap();
+            worlds.push(w);
+        }
+        worlds.push(sticky_mix(200, 0.5));
+        let mut one = World::default();
+        one.spheres.push(SphereState {
+            centre: DVec3::ZERO,
+            velocity: DVec3::X,
+            radius: 1.0,
+            mass: 1.0,
+            material: 0,
+        });
+        worlds.push(one);
+        worlds.push(World::default());
+        for w in worlds {
+            let n = w.spheres.len();
+            let sim = Simulation::new(w).unwrap();
+            let (actual, estimate) = (sim.memory_bytes(), Simulation::estimated_bytes(n));
+            assert!(
+                actual <= estimate && estimate <= 2 * actual + if n <= 1 { 4096 } else { 0 },
+                "{n} spheres: estimate {estimate} B, a fresh simulation holds {actual} B"
+            );
         }
     }
 
