@@ -176,42 +176,49 @@ def _float_columns(frame, columns: Sequence[str]) -> list:
     return [np.ascontiguousarray(frame[c].to_numpy(dtype=np.float32)) for c in columns]
 
 
-def _partition_error(source: str, info: Optional[dict], e: Exception) -> ValueError:
-    number = "?" if info is None else info.get("number", "?")
-    return ValueError(f"{source}: partition {number} (rows counted within it): {e}")
+def _answer_and_write(frame, apply, args, source, directory, partition_info=None):
+    """One task: answers one partition with ``apply`` and writes it as one Parquet file.
+
+    Returns a one-row frame of the rows and the rows with a contact. Reading, answering and
+    writing are one task (no partition crosses the network); an invalid value is a ValueError
+    naming the partition and the row within it.
+    """
+    import pandas as pd
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    number = 0 if partition_info is None else partition_info["number"]
+    try:
+        answered = apply(frame, *args)
+    except (ValueError, TypeError) as e:
+        raise type(e)(f"{source}: partition {number} (rows counted within it): {e}") from e
+    table = pa.Table.from_pandas(answered, preserve_index=False)
+    pq.write_table(table, os.path.join(directory, _part_name(number)), compression="snappy")
+    time = answered["time"].to_numpy()
+    return pd.DataFrame({"rows": [len(time)], "contacts": [int(np.isfinite(time).sum())]})
 
 
-def _pair_partition(frame, t_max, accuracy, source, partition_info=None):
-    """One task: the times of impact of one partition of pairs, appended as ``time``."""
+def _pair_partition(frame, t_max, accuracy):
+    """The times of impact of one partition of pairs, appended as ``time``."""
     ss = _native()
     cols = _float_columns(frame, PAIR_COLUMNS)
-    if len(frame) == 0:
-        times = np.empty(0, dtype=np.float32)
-    else:
-        try:
-            a = ss.Spheres.from_columns(*cols[:7])
-            b = ss.Spheres.from_columns(*cols[7:])
-            times = ss.zip_times(a, b, t_max=t_max, accuracy=accuracy)
-        except (ValueError, TypeError) as e:
-            raise _partition_error(source, partition_info, e) from e
-    return frame.assign(time=times)
+    a = ss.Spheres.from_columns(*cols[:7])
+    b = ss.Spheres.from_columns(*cols[7:])
+    return frame.assign(time=ss.zip_times(a, b, t_max=t_max, accuracy=accuracy))
 
 
-def _static_partition(frame, specs, t_max, accuracy, source, partition_info=None):
-    """One task: each sphere's earliest contact with the shapes, as ``time, kind, index``."""
+def _static_partition(frame, specs, t_max, accuracy):
+    """Each sphere's earliest contact with the shapes, as ``time, kind, index``."""
     ss = _native()
     n = len(frame)
     time = np.full(n, np.inf, dtype=np.float32)
     kind = np.zeros(n, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
     if n and specs:
-        try:
-            spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
-            planes, cylinders, containers = _build_shapes(specs)
-            ordered = planes + cylinders + containers  # the tie rule's order
-            table = ss.static_times(spheres, ordered, t_max=t_max, accuracy=accuracy)
-        except (ValueError, TypeError) as e:
-            raise _partition_error(source, partition_info, e) from e
+        spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
+        planes, cylinders, containers = _build_shapes(specs)
+        ordered = planes + cylinders + containers  # the tie rule's order
+        table = ss.static_times(spheres, ordered, t_max=t_max, accuracy=accuracy)
         column = np.argmin(table, axis=1)  # the first of equal times: plane, cylinder, ...
         time = table[np.arange(n), column]
         hit = np.isfinite(time)
@@ -291,10 +298,10 @@ def _staging_name(final: str, what: str) -> str:
     return os.path.join(head, f".{tail}.{os.getpid()}.{what}")
 
 
-def _sharded_parquet(source, destination, needed, added, apply, args, meta_columns, client,
-                     overwrite, split_row_groups):
-    import dask
+def _sharded_parquet(source, destination, needed, added, apply, args, client, overwrite,
+                     split_row_groups):
     import dask.dataframe as dd
+    import pandas as pd
 
     client = _client_or_current(client)
     final = _local_destination(destination)
@@ -303,29 +310,27 @@ def _sharded_parquet(source, destination, needed, added, apply, args, meta_colum
     label = os.fspath(source)
     frame = dd.read_parquet(source, split_row_groups=split_row_groups)
     _check_schema(frame._meta, needed, added, label)
-    meta = frame._meta.assign(
-        **{name: np.empty(0, dtype=dtype) for name, dtype in meta_columns}
-    )
-    answered = frame.map_partitions(apply, *args, label, meta=meta, enforce_metadata=False)
     staged = _staging_name(final, "tmp")
     shutil.rmtree(staged, ignore_errors=True)
+    os.makedirs(staged)
     try:
-        write = answered.to_parquet(
+        counts = frame.map_partitions(
+            _answer_and_write,
+            apply,
+            args,
+            label,
             staged,
-            write_index=False,
-            compression="snappy",
-            name_function=_part_name,
-            compute=False,
+            meta=pd.DataFrame({"rows": np.empty(0, np.int64), "contacts": np.empty(0, np.int64)}),
+            enforce_metadata=False,
         )
-        rows = answered["time"].size
-        contacts = (answered["time"] < np.inf).sum()
-        with dask.config.set(scheduler=client):
-            _, rows, contacts = dask.compute(write, rows, contacts)
+        counts = client.compute(counts).result()
         _replace_directory(staged, final, overwrite)
     except BaseException:
         shutil.rmtree(staged, ignore_errors=True)
         raise
-    return ParquetSummary(int(rows), int(contacts), int(frame.npartitions), final)
+    return ParquetSummary(
+        int(counts["rows"].sum()), int(counts["contacts"].sum()), int(frame.npartitions), final
+    )
 
 
 def zip_times_parquet(
@@ -359,7 +364,6 @@ def zip_times_parquet(
         ("time",),
         _pair_partition,
         (t_max, accuracy),
-        (("time", np.float32),),
         client,
         overwrite,
         split_row_groups,
@@ -397,7 +401,6 @@ def static_contacts_parquet(
         ("time", "kind", "index"),
         _static_partition,
         (specs, t_max, accuracy),
-        (("time", np.float32), ("kind", np.uint8), ("index", np.int64)),
         client,
         overwrite,
         split_row_groups,
