@@ -1,0 +1,156 @@
+//! NumPy arrays in: the dtype and shape checks every entry point shares, each error naming the
+//! argument. Floating arrays of the target type are borrowed as they are (any strides: ndarray
+//! views read them in place); other floating dtypes are converted once by NumPy's `astype`
+//! (round to nearest, as Rust's `as f32`); arrays of any other dtype are a `TypeError`. Lists,
+//! tuples and scalars go through `numpy.asarray(x, dtype=<target>)`.
+
+use numpy::ndarray::ArrayViewD;
+use numpy::{
+    Element, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+/// The shape an argument must have.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Expect {
+    /// One entry per item: `(N,)`.
+    Column,
+    /// One 3-vector per item: `(N, 3)`.
+    Rows3,
+    /// One 3-vector: `(3,)`.
+    Vector3,
+}
+
+impl Expect {
+    fn describe(self) -> &'static str {
+        match self {
+            Expect::Column => "(N,)",
+            Expect::Rows3 => "(N, 3)",
+            Expect::Vector3 => "(3,)",
+        }
+    }
+
+    fn fits(self, shape: &[usize]) -> bool {
+        match self {
+            Expect::Column => shape.len() == 1,
+            Expect::Rows3 => shape.len() == 2 && shape[1] == 3,
+            Expect::Vector3 => shape == [3],
+        }
+    }
+}
+
+/// `obj` as a NumPy array: an array as it is; anything else (lists, tuples, scalars) through
+/// `numpy.asarray(obj, dtype)` (a failure is a `ValueError` naming the argument).
+fn as_ndarray<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    dtype: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    if let Ok(array) = obj.cast::<PyUntypedArray>() {
+        return Ok(array.clone());
+    }
+    let numpy = obj.py().import("numpy")?;
+    let array = numpy
+        .call_method1("asarray", (obj, dtype))
+        .map_err(|e| PyValueError::new_err(format!("{name}: cannot be read as an array ({e})")))?;
+    array
+        .cast_into::<PyUntypedArray>()
+        .map_err(|_| PyTypeError::new_err(format!("{name}: numpy.asarray did not give an array")))
+}
+
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+fn check_shape(array: &Bound<'_, PyUntypedArray>, name: &str, expect: Expect) -> PyResult<()> {
+    let shape = array.shape();
+    if expect.fits(shape) {
+        Ok(())
+    } else {
+        Err(PyValueError::new_err(format!(
+            "{name}: expected shape {}, got {}",
+            expect.describe(),
+            shape_text(shape)
+        )))
+    }
+}
+
+/// A floating array argument as a read-only array of `T` (`f32` or `f64`): borrowed when its
+/// dtype is `T`, converted once otherwise.
+///
+/// # Errors
+/// `TypeError` if its dtype is not floating; `ValueError` if its shape is not `expect`.
+pub(crate) fn floats<'py, T: Element>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    expect: Expect,
+) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
+    let py = obj.py();
+    let array = as_ndarray(obj, name, Some(T::get_dtype(py).into_any()))?;
+    let dtype = array.dtype();
+    if dtype.kind() != b'f' {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: dtype {} is not a floating type (float32 or float64)",
+            dtype.str()?
+        )));
+    }
+    check_shape(&array, name, expect)?;
+    let target = T::get_dtype(py);
+    let typed = if dtype.is_equiv_to(&target) {
+        array.into_any()
+    } else {
+        array.call_method1("astype", (target,))?
+    };
+    Ok(typed.extract::<PyReadonlyArrayDyn<'py, T>>()?)
+}
+
+/// A 3-vector argument (an array or a sequence of three numbers) in `T`.
+pub(crate) fn vector3<T: Element + Copy>(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<[T; 3]> {
+    let array = floats::<T>(obj, name, Expect::Vector3)?;
+    let v = array.as_array();
+    Ok([v[[0]], v[[1]], v[[2]]])
+}
+
+/// An integer index array argument as `u32` indices.
+///
+/// # Errors
+/// `TypeError` if its dtype is not an integer type; `ValueError` if it is not 1-D, or an entry
+/// is negative or above `u32::MAX` (named by position).
+pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> {
+    let array = as_ndarray(obj, name, None)?;
+    let dtype = array.dtype();
+    if !matches!(dtype.kind(), b'i' | b'u') {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: dtype {} is not an integer type",
+            dtype.str()?
+        )));
+    }
+    check_shape(&array, name, Expect::Column)?;
+    let wide = array.call_method1("astype", ("int64",))?;
+    let wide = wide.extract::<PyReadonlyArrayDyn<'_, i64>>()?;
+    wide.as_array()
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            u32::try_from(i).map_err(|_| {
+                PyValueError::new_err(format!("{name}[{k}]: index {i} is not in 0..=4294967295"))
+            })
+        })
+        .collect()
+}
+
+/// Rows of a `(N, 3)` view as arrays.
+pub(crate) fn row3<T: Copy>(view: &ArrayViewD<'_, T>, i: usize) -> [T; 3] {
+    [view[[i, 0]], view[[i, 1]], view[[i, 2]]]
+}

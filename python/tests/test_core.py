@@ -1,0 +1,337 @@
+"""The batch entry points and the scene query through Python: agreement with the Rust API
+(closed-form cases the Rust doctests pin, and the same kernels reached by different entry
+points must give the same bits), dtype and copy rules, and every documented error."""
+
+import math
+
+import numpy as np
+import pytest
+
+import spheresweep as ss
+
+
+def random_spheres(rng, n, spread=20.0, speed=3.0, rmax=1.0):
+    centres = rng.uniform(-spread, spread, (n, 3)).astype(np.float32)
+    velocities = rng.uniform(-speed, speed, (n, 3)).astype(np.float32)
+    radii = rng.uniform(0.1, rmax, n).astype(np.float32)
+    masses = rng.uniform(0.5, 2.0, n).astype(np.float32)
+    return centres, velocities, radii, masses
+
+
+def bits(a):
+    """The float32 bit patterns, so that equality is exact (and NaN-safe)."""
+    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
+
+
+# ---------------------------------------------------------------- closed forms
+
+
+def test_head_on_pair_closed_form():
+    # Gap 10 - 2 = 8 closed at speed 2: t = 4 exactly in every mode (the Rust doctest of
+    # zip_times pins the same pair).
+    a = ss.Spheres([[0, 0, 0]], [[0, 0, 0]], [1.0])
+    b = ss.Spheres([[10, 0, 0]], [[-2, 0, 0]], [1.0])
+    for accuracy in ss.ACCURACIES:
+        t = ss.zip_times(a, b, t_max=100.0, accuracy=accuracy)
+        assert t.dtype == np.float32 and t.shape == (1,)
+        assert t[0] == 4.0
+    # Outside the window: no contact.
+    assert ss.zip_times(a, b, t_max=3.5)[0] == np.inf
+
+
+def test_pair_times_doc_example():
+    # The Rust doctest of pair_times: [4, inf].
+    s = ss.Spheres([[0, 0, 0], [6, 0, 0], [0, 9, 0]], [[1, 0, 0], [0, 0, 0], [0, 0, 0]], [1, 1, 1])
+    t = ss.pair_times(s, np.array([0, 0]), np.array([1, 2]))
+    assert t.tolist() == [4.0, math.inf]
+
+
+def test_static_times_closed_forms():
+    # Floor: centre at z = 3 falling at 1 touches z = 0 at t = 2; vessel of radius 5 around
+    # a ball of radius 1 moving at 2: touches at t = 2; pillar of radius 1 along z at x = 10,
+    # ball at x = 0 moving +x at 2, radius 1: gap 8, t = 4.
+    s = ss.Spheres([[0, 0, 3]], [[2, 0, -1]], [1.0])
+    floor = ss.Plane([0, 0, 0], [0, 0, 1])
+    pillar = ss.Cylinder([10, 0, 0], [10, 0, 1], 1.0)
+    vessel = ss.Container([0, 0, 3], 5.0)
+    table = ss.static_times(s, [floor, pillar, vessel])
+    assert table.shape == (1, 3) and table.dtype == np.float32
+    # Speed in the vessel is sqrt(5): 4 / sqrt(5) to float32 rounding of the kernel; check
+    # against pair-free closed forms where exact, and the vessel against the scene query.
+    assert table[0, 0] == 2.0
+    assert table[0, 1] == 4.0
+    assert abs(table[0, 2] - 4.0 / math.sqrt(5.0)) < 1e-6
+
+
+# ---------------------------------------------------------------- same bits
+
+
+@pytest.mark.parametrize("accuracy", ["textbook", "stable", "double"])
+def test_zip_times_equals_pair_times(accuracy):
+    # zip_times reads two stores as blocks; pair_times gathers listed pairs from one store:
+    # different entry points into the same kernel, so the bits must agree.
+    rng = np.random.default_rng(1)
+    n = 1001
+    ca, va, ra, ma = random_spheres(rng, n)
+    cb, vb, rb, mb = random_spheres(rng, n)
+    cb = (ca + rng.uniform(-4, 4, (n, 3))).astype(np.float32)  # near enough to meet often
+    a, b = ss.Spheres(ca, va, ra, ma), ss.Spheres(cb, vb, rb, mb)
+    zipped = ss.zip_times(a, b, t_max=10.0, accuracy=accuracy)
+    both = ss.Spheres(np.vstack([ca, cb]), np.vstack([va, vb]), np.r_[ra, rb], np.r_[ma, mb])
+    listed = ss.pair_times(both, np.arange(n), np.arange(n) + n, t_max=10.0, accuracy=accuracy)
+    assert np.isfinite(zipped).sum() > 20  # the test sees contacts
+    assert (bits(zipped) == bits(listed)).all()
+    # One by one: each pair alone in a store of two.
+    for k in range(0, n, 97):
+        one = ss.Spheres(np.stack([ca[k], cb[k]]), np.stack([va[k], vb[k]]), [ra[k], rb[k]])
+        t = ss.pair_times(one, [0], [1], t_max=10.0, accuracy=accuracy)
+        assert bits(t)[0] == bits(zipped)[k]
+
+
+def brute_first(s_centres, s_vel, s_radii, shapes, t_max, accuracy):
+    """Earliest contact per sphere from pair_times over every pair and static_times over each
+    shape, with the documented tie rule (spheres, planes, cylinders, containers, each by
+    index)."""
+    n = len(s_radii)
+    s = ss.Spheres(s_centres, s_vel, s_radii)
+    i, j = np.triu_indices(n, 1)
+    t = ss.pair_times(s, i, j, t_max=t_max, accuracy=accuracy)
+    best = [(math.inf, 0, -1)] * n
+    rank = {ss.KIND_SPHERE: 0, ss.KIND_PLANE: 1, ss.KIND_CYLINDER: 2, ss.KIND_CONTAINER: 3}
+
+    def keep(k, time, kind, index):
+        cur = best[k]
+        key = (time, rank.get(kind, 9), index)
+        if cur[2] < 0 or key < (cur[0], rank[cur[1]], cur[2]):
+            best[k] = (time, kind, index)
+
+    for p, q, time in zip(i, j, t):
+        if np.isfinite(time):
+            keep(p, float(time), ss.KIND_SPHERE, int(q))
+            keep(q, float(time), ss.KIND_SPHERE, int(p))
+    for kind, items in shapes:
+        if not items:
+            continue
+        table = ss.static_times(s, items, t_max=t_max, accuracy=accuracy)
+        for k in range(n):
+            for c, time in enumerate(table[k]):
+                if np.isfinite(time):
+                    keep(k, float(time), kind, c)
+    return best
+
+
+@pytest.mark.parametrize("accuracy", ["textbook", "stable", "double"])
+@pytest.mark.parametrize("t_max", [2.0, math.inf])
+def test_first_contacts_against_brute_force(accuracy, t_max):
+    rng = np.random.default_rng(7)
+    n = 150
+    c, v, r, _ = random_spheres(rng, n, spread=12.0)
+    planes = [ss.Plane([0, 0, -14], [0, 0, 1]), ss.Plane([0, 0, 14], [0, 0, -1])]
+    cylinders = [ss.Cylinder([3, 0, 0], [3, 0, 1], 1.5)]
+    containers = [ss.Container([0, 0, 0], 40.0)]
+    scene = ss.Scene(ss.Spheres(c, v, r), planes=planes, cylinders=cylinders, containers=containers)
+    got = ss.first_contacts(scene, t_max=t_max, accuracy=accuracy)
+    want = brute_first(
+        c, v, r,
+        [(ss.KIND_PLANE, planes), (ss.KIND_CYLINDER, cylinders), (ss.KIND_CONTAINER, containers)],
+        t_max, accuracy,
+    )
+    assert got.time.dtype == np.float32 and got.kind.dtype == np.uint8 and got.index.dtype == np.int64
+    assert got.point is None and got.normal is None
+    hits = sum(1 for w in want if w[2] >= 0)
+    assert hits > 10
+    for k, (time, kind, index) in enumerate(want):
+        if index < 0:
+            assert got.time[k] == np.inf and got.kind[k] == ss.KIND_NONE and got.index[k] == -1
+        else:
+            assert bits(got.time[k:k + 1])[0] == bits(np.float32([time]))[0], k
+            assert (int(got.kind[k]), int(got.index[k])) == (kind, index), k
+
+
+def test_all_contacts_against_pairs():
+    rng = np.random.default_rng(3)
+    n = 120
+    c, v, r, _ = random_spheres(rng, n, spread=10.0)
+    floor = ss.Plane([0, 0, -11], [0, 0, 1])
+    s = ss.Spheres(c, v, r)
+    scene = ss.Scene(s, planes=[floor])
+    got = ss.all_contacts(scene, t_max=3.0, geometry=True)
+    assert len(got) == len(got.time) > 10
+    assert got.sphere.dtype == np.uint32 and got.point.shape == (len(got), 3)
+    pairs = got.kind == ss.KIND_SPHERE
+    assert (got.sphere[pairs] < got.index[pairs]).all()
+    # Each pair once, and exactly the pairs pair_times finds in the window, with their bits.
+    i, j = np.triu_indices(n, 1)
+    t = ss.pair_times(s, i, j, t_max=3.0)
+    want = {(int(p), int(q)): bits(np.float32([x]))[0] for p, q, x in zip(i, j, t) if np.isfinite(x)}
+    have = {(int(p), int(q)): bits(got.time[k:k + 1])[0]
+            for k, (p, q) in enumerate(zip(got.sphere, got.index)) if got.kind[k] == ss.KIND_SPHERE}
+    assert have == want
+    walls = ss.static_times(s, [floor], t_max=3.0)[:, 0]
+    have_w = {int(p): bits(got.time[k:k + 1])[0]
+              for k, p in enumerate(got.sphere) if got.kind[k] == ss.KIND_PLANE}
+    want_w = {k: bits(walls[k:k + 1])[0] for k in range(n) if np.isfinite(walls[k])}
+    assert have_w == want_w
+    # Sorted by time; geometry finite, unit normals.
+    assert (np.diff(got.time) >= 0).all()
+    assert np.isfinite(got.point).all()
+    assert np.allclose(np.linalg.norm(got.normal, axis=1), 1.0, atol=1e-6)
+
+
+def test_first_contacts_geometry():
+    # Ball above the floor: touches at t = 2 at the origin with normal +z (the Rust README's
+    # floor example).
+    s = ss.Spheres([[0, 0, 3], [50, 50, 50]], [[0, 0, -1], [0, 0, 0]], [1.0, 1.0])
+    scene = ss.Scene(s, planes=[ss.Plane([0, 0, 0], [0, 0, 1])])
+    r = ss.first_contacts(scene, t_max=10.0, geometry=True)
+    assert r.time.tolist() == [2.0, math.inf]
+    assert r.kind.tolist() == [ss.KIND_PLANE, ss.KIND_NONE]
+    assert r.index.tolist() == [0, -1]
+    assert r.point[0].tolist() == [0.0, 0.0, 0.0]
+    assert r.normal[0].tolist() == [0.0, 0.0, 1.0]
+    assert np.isnan(r.point[1]).all() and np.isnan(r.normal[1]).all()
+
+
+# ---------------------------------------------------------------- dtypes and copies
+
+
+def test_float64_is_converted_once_to_the_same_bits():
+    rng = np.random.default_rng(11)
+    c, v, r, m = random_spheres(rng, 300)
+    c64, v64, r64, m64 = (x.astype(np.float64) + 1e-9 for x in (c, v, r, m))
+    a32 = ss.Spheres(c64.astype(np.float32), v64.astype(np.float32), r64.astype(np.float32))
+    a64 = ss.Spheres(c64, v64, r64)
+    assert (bits(a32.centres) == bits(a64.centres)).all()
+    assert (bits(a32.radii) == bits(a64.radii)).all()
+    b = ss.Spheres(c[::-1].copy(), v[::-1].copy(), r[::-1].copy())
+    assert (bits(ss.zip_times(a32, b)) == bits(ss.zip_times(a64, b))).all()
+
+
+def test_strided_and_fortran_inputs_read_in_place():
+    rng = np.random.default_rng(5)
+    c, v, r, m = random_spheres(rng, 64)
+    base = ss.Spheres(c, v, r, m)
+    fortran = ss.Spheres(np.asfortranarray(c), np.asfortranarray(v), r, m)
+    wide = np.zeros((64, 6), np.float32)
+    wide[:, ::2] = c
+    strided = ss.Spheres(wide[:, ::2], v, np.repeat(r, 2)[::2], m)
+    cols = ss.Spheres.from_columns(*c.T, *v.T, r, m)
+    for other in (fortran, strided, cols):
+        assert (bits(other.centres) == bits(base.centres)).all()
+        assert (bits(other.velocities) == bits(base.velocities)).all()
+        assert (bits(other.radii) == bits(base.radii)).all()
+        assert (bits(other.masses) == bits(base.masses)).all()
+
+
+def test_accessors_are_copies():
+    c = np.array([[1, 2, 3]], np.float32)
+    s = ss.Spheres(c, [[4, 5, 6]], [0.5], [2.0])
+    got = s.centres
+    got[0, 0] = 99
+    assert s.centres.tolist() == [[1, 2, 3]]
+    assert len(s) == 1 and s.masses.tolist() == [2.0]
+    c[0, 0] = 42  # the store holds its own copy of the data
+    assert s.centres[0, 0] == 1
+
+
+def test_out_parameter_is_written_in_place():
+    a = ss.Spheres([[0, 0, 0]] * 3, [[0, 0, 0]] * 3, [1, 1, 1])
+    b = ss.Spheres([[10, 0, 0]] * 3, [[-2, 0, 0]] * 3, [1, 1, 1])
+    out = np.full(3, -1, np.float32)
+    res = ss.zip_times(a, b, out=out)
+    assert res is out and out.tolist() == [4.0, 4.0, 4.0]
+    with pytest.raises(ValueError, match="out"):
+        ss.zip_times(a, b, out=np.zeros(2, np.float32))
+    with pytest.raises(TypeError, match="out"):
+        ss.zip_times(a, b, out=np.zeros(3, np.float64))
+
+
+# ---------------------------------------------------------------- errors
+
+
+ONE = dict(centres=[[0, 0, 0]], velocities=[[0, 0, 0]], radii=[1.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, err, pattern",
+    [
+        (dict(ONE, centres=np.zeros((1, 3), np.int64)), TypeError, "centres: dtype"),
+        (dict(ONE, velocities=np.zeros((1, 3), np.complex64)), TypeError, "velocities: dtype"),
+        (dict(ONE, radii=np.array(["a"])), TypeError, "radii: dtype"),
+        (dict(ONE, centres=np.zeros((1, 2), np.float32)), ValueError, r"centres: expected shape \(N, 3\), got \(1, 2\)"),
+        (dict(ONE, centres=np.zeros(3, np.float32)), ValueError, r"centres: expected shape \(N, 3\)"),
+        (dict(ONE, radii=np.ones((1, 1), np.float32)), ValueError, r"radii: expected shape \(N,\)"),
+        (dict(ONE, velocities=np.zeros((2, 3))), ValueError, "velocities: 2 entries, expected 1"),
+        (dict(ONE, masses=[1.0, 2.0]), ValueError, "masses: 2 entries, expected 1"),
+        (dict(ONE, radii=[-1.0]), ValueError, "sphere 0: sphere radius is negative"),
+        (dict(ONE, centres=[[0, np.nan, 0]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
+        (dict(ONE, velocities=[[np.inf, 0, 0]]), ValueError, "sphere 0: sphere velocity is NaN or infinite"),
+        (dict(ONE, masses=[0.0]), ValueError, "sphere 0: sphere mass must be greater than zero"),
+        (dict(ONE, centres=[[0, 0, 1e300]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
+    ],
+)
+@pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
+def test_bad_spheres(kwargs, err, pattern):
+    with pytest.raises(err, match=pattern):
+        ss.Spheres(**kwargs)
+
+
+def test_bad_sphere_is_named_by_index():
+    r = np.ones(10, np.float32)
+    r[7] = -2
+    with pytest.raises(ValueError, match="sphere 7: sphere radius is negative"):
+        ss.Spheres(np.zeros((10, 3)), np.zeros((10, 3)), r)
+    x = np.arange(5, dtype=np.float32)
+    with pytest.raises(ValueError, match="column vy has 4 entries, expected 5"):
+        ss.Spheres.from_columns(x, x, x, x, x[:4], x, x + 1)
+    with pytest.raises(ValueError, match="sphere 2: sphere radius is negative"):
+        ss.Spheres.from_columns(x, x, x, x, x, x, 1 - x)
+
+
+def test_bad_query_arguments():
+    a = ss.Spheres([[0, 0, 0]], [[0, 0, 0]], [1.0])
+    b = ss.Spheres([[0, 0, 0]] * 2, [[0, 0, 0]] * 2, [1.0, 1.0])
+    with pytest.raises(ValueError, match="the stores differ in length: 1 and 2"):
+        ss.zip_times(a, b)
+    with pytest.raises(ValueError, match="expected textbook, stable or double"):
+        ss.zip_times(a, a, accuracy="exact")
+    with pytest.raises(ValueError, match="t_max must be zero or more"):
+        ss.zip_times(a, a, t_max=-1.0)
+    with pytest.raises(ValueError, match="t_max must be zero or more"):
+        ss.zip_times(a, a, t_max=math.nan)
+    with pytest.raises(TypeError):
+        ss.zip_times(a, np.zeros(3))
+    with pytest.raises(TypeError, match="i: dtype"):
+        ss.pair_times(b, np.array([0.0]), np.array([1]))
+    with pytest.raises(ValueError, match="j: 2 entries, expected 1"):
+        ss.pair_times(b, [0], [1, 1])
+    with pytest.raises(ValueError, match=r"i\[1\]: index -1"):
+        ss.pair_times(b, [0, -1], [1, 1])
+    with pytest.raises(ValueError, match="pair 0: sphere index 5 is out of range"):
+        ss.pair_times(b, [0], [5])
+    with pytest.raises(TypeError, match=r"shapes\[1\]: expected a Plane, Cylinder or Container"):
+        ss.static_times(a, [ss.Plane([0, 0, 0], [0, 0, 1]), "floor"])
+    with pytest.raises(TypeError, match=r"planes\[0\]: expected a Plane, got Container"):
+        ss.Scene(a, planes=[ss.Container([0, 0, 0], 5.0)])
+    with pytest.raises(TypeError):
+        ss.all_contacts(ss.Scene(a))  # t_max is required
+
+
+def test_bad_shapes():
+    with pytest.raises(ValueError, match="plane normal has zero length"):
+        ss.Plane([0, 0, 0], [0, 0, 0])
+    with pytest.raises(ValueError, match="plane point is NaN or infinite"):
+        ss.Plane([0, np.nan, 0], [0, 0, 1])
+    with pytest.raises(ValueError, match=r"normal: expected shape \(3,\), got \(2,\)"):
+        ss.Plane([0, 0, 0], [0, 1])
+    with pytest.raises(ValueError, match="cylinder"):
+        ss.Cylinder([0, 0, 0], [0, 0, 0], 1.0)
+    with pytest.raises(ValueError, match="cylinder radius is negative"):
+        ss.Cylinder([0, 0, 0], [0, 0, 1], -1.0)
+    with pytest.raises(ValueError, match="container radius is negative"):
+        ss.Container([0, 0, 0], -1.0)
+
+
+def test_constants():
+    assert ss.ACCURACIES == ("textbook", "stable", "double")
+    assert (ss.KIND_NONE, ss.KIND_SPHERE, ss.KIND_PLANE, ss.KIND_CYLINDER, ss.KIND_CONTAINER) == (0, 1, 2, 3, 4)
