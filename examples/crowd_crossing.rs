@@ -16,8 +16,8 @@
 //! taken with respect to their relative position. The kernel's time is exactly this `τ`: the
 //! time until the surfaces touch, at the contact distance `r_a + r_b = 0.4 m`. Each agent is
 //! also pulled towards its goal by `(v_goal − v)/ξ` (`ξ = 0.5 s`, preferred speed 1.3 m/s
-//! towards the goal). The total force is capped at 20 m/s² and the speed at 2 m/s (values
-//! chosen here; the paper caps both); explicit Euler with `dt = 0.02 s`. Neighbours are the
+//! towards the goal). The total force is capped at 20 m/s² and the speed at 2 m/s (the model
+//! is used with both caps; the values are this example's choice); explicit Euler with `dt = 0.02 s`. Neighbours are the
 //! agents within 10 m (a uniform grid of 10 m cells); an agent within 0.5 m of its goal has
 //! arrived and leaves the crossing.
 //!
@@ -61,8 +61,8 @@ const MAX_SPEED: f64 = 2.0;
 const DT: f64 = 0.02;
 /// Neighbours are the agents within this distance (m).
 const SENSING: f64 = 10.0;
-/// Times of collision beyond this are not asked for: `E(12 s)` is `e⁻⁴/64 ≈ 3·10⁻⁴` of
-/// `E(1 s)·e^{1/3}`, a force far below anything that steers.
+/// Times of collision beyond this are not asked for: the force factor `E′(τ)` at 12 s is
+/// `4·10⁻⁵` of its value at 1 s, nothing that steers.
 const HORIZON: f32 = 12.0;
 /// An agent within this distance of its goal has arrived (m).
 const ARRIVED: f64 = 0.5;
