@@ -258,10 +258,9 @@ fn run() -> Result<(), String> {
             }
         }
         // 4. Advance: straight to the contact with the old velocity, then on with the new one.
-        for i in 0..n {
-            let old = store.get(i).unwrap().velocity();
-            let t = moved_at[i].unwrap_or(DT);
-            bodies.position[i] += old * t + bodies.velocity[i] * (DT - t);
+        for (i, (stored, moved)) in store.iter().zip(&moved_at).enumerate() {
+            let t = moved.unwrap_or(DT);
+            bodies.position[i] += stored.velocity() * t + bodies.velocity[i] * (DT - t);
         }
         pair_contacts += frame_pairs;
         wall_contacts += frame_walls;

@@ -52,8 +52,12 @@ struct SphereColumns {
 
 impl SphereColumns {
     fn push(&mut self, c: [f32; 3], v: [f32; 3], r: f32) {
-        (self.x.push(c[0]), self.y.push(c[1]), self.z.push(c[2]));
-        (self.vx.push(v[0]), self.vy.push(v[1]), self.vz.push(v[2]));
+        self.x.push(c[0]);
+        self.y.push(c[1]);
+        self.z.push(c[2]);
+        self.vx.push(v[0]);
+        self.vy.push(v[1]);
+        self.vz.push(v[2]);
         self.r.push(r);
     }
 
@@ -200,8 +204,7 @@ fn run() -> Result<(), String> {
     println!("pair_times: the same {n} pairs as an index list, bit for bit the same times");
 
     // --- Every batch answer is the single-pair query's. -----------------------------------
-    for i in 0..n {
-        let (sa, sb) = (store_a.get(i).unwrap(), store_b.get(i).unwrap());
+    for (i, (sa, sb)) in store_a.iter().zip(store_b.iter()).enumerate() {
         let one = time_of_impact(&sa, &Shape::Sphere(sb), options).unwrap_or(f32::INFINITY);
         check(one.to_bits() == zipped[i].to_bits(), || {
             format!(
