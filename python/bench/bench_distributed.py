@@ -129,7 +129,7 @@ def bench_scene(client, n, slabs, t_max, repeat):
     print(f"\n### whole-scene query, {n:,} spheres, box {length:.0f} long, t_max {t_max}\n")
     print(
         f"one process: {base:.3f} s query ({base_with_build:.3f} s with building the scene), "
-        f"{len(expected.time):,} contacts; halo {sd.reach_halo(v, r, t_max) * (1 + sd.HALO_MARGIN):.2f}\n"
+        f"{len(expected.time):,} contacts; halo {sd.halo_width(c, v, r, t_max):.2f}\n"
     )
     print("| slabs | spheres per slab | slab width | halo fraction | 2 workers | vs one process |")
     print("|---|---|---|---|---|---|")
@@ -161,7 +161,7 @@ def main():
 
     with LocalCluster(
         n_workers=2, threads_per_worker=1, host="127.0.0.1", processes=True,
-        dashboard_address=None,
+        dashboard_address=":0",
     ) as cluster, Client(cluster) as client:  # fmt: skip
         per_task = task_overhead(client, 2000, args.repeat)
         print("### Dask on this machine\n")

@@ -36,6 +36,7 @@ __all__ = [
     "ContactTable",
     "FirstContactTable",
     "reach_halo",
+    "halo_width",
     "plan_slabs",
     "zip_times_parquet",
     "static_contacts_parquet",
@@ -50,9 +51,10 @@ PAIR_COLUMNS = (
 )  # fmt: skip
 #: Input columns of a spheres dataset (spheres against shapes), as in ``docs/query-format.md``.
 SPHERE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "r")
-#: Relative widening of the derived halo: it covers the rounding of the f32 kernels (a contact
-#: reported a few ulps beyond the exact reach) many times over, for ~1.6 % more halo spheres.
+#: Relative widening of the derived halo (~1.6 % more halo spheres), on top of the rounding
+#: margin of :func:`halo_width`: room for the kernels' f32 rounding with plenty to spare.
 HALO_MARGIN = 2.0**-6
+_UNIT_ROUNDOFF = 2.0**-24  # float32
 
 # Kind codes of the query files (docs/query-format.md): 0 none, 1 plane, 2 cylinder,
 # 3 container. The binding's scene query uses 1 sphere, 2 plane, 3 cylinder, 4 container.
@@ -431,6 +433,30 @@ def reach_halo(velocities, radii, t_max: float) -> float:
     return 2.0 * float(np.max(r + np.sqrt((v * v).sum(axis=1)) * t_max))
 
 
+def halo_width(centres, velocities, radii, t_max: float, accuracy: str = "stable") -> float:
+    """The halo the partitioned query uses: :func:`reach_halo` widened for rounding.
+
+    A float32 kernel may report a contact for a pair slightly beyond the exact reach (a grazing
+    pair, or a time rounded down to ``t_max``). By the bounds of docs/derivations/accuracy.md
+    that excess is at most ``8u (X + D)`` for ``stable`` (``X`` the largest coordinate the
+    pair occupies, ``D`` the sum of radii, ``u = 2^-24``) and ``4u (X^2 + D^2) / D`` for
+    ``textbook`` grazing; the width added is ``HALO_MARGIN h + 2^-16 (X + h)``, and for
+    ``textbook`` also ``4u (X^2 + h^2) / (2 r_min)`` (no such term exists for point spheres).
+    """
+    h = reach_halo(velocities, radii, t_max)
+    c = np.asarray(centres, dtype=np.float32).astype(np.float64).reshape(-1, 3)
+    if len(c) == 0:
+        return 0.0
+    v = np.asarray(velocities, dtype=np.float32).astype(np.float64).reshape(-1, 3)
+    r = np.asarray(radii, dtype=np.float32).astype(np.float64).reshape(-1)
+    reach = float(np.max(np.abs(c))) + float(np.max(np.abs(v))) * math.sqrt(3.0) * t_max
+    margin = HALO_MARGIN * h + 2.0**-16 * (reach + h)
+    r_min = float(np.min(r))
+    if accuracy == "textbook" and r_min > 0:
+        margin += 4 * _UNIT_ROUNDOFF * (reach * reach + h * h) / (2 * r_min)
+    return h + margin
+
+
 @dataclass(frozen=True)
 class SlabPlan:
     """Slabs along one axis over the centres at t = 0, with equal numbers of owned spheres.
@@ -476,11 +502,12 @@ def plan_slabs(
     partitions: int,
     axis: Optional[int] = None,
     halo: Optional[float] = None,
+    accuracy: str = "stable",
 ) -> SlabPlan:
     """Slabs over the centres at t = 0 and their halos (see :class:`SlabPlan`).
 
     ``axis`` defaults to the one along which the centres spread most; ``halo`` to
-    ``reach_halo(...) * (1 + HALO_MARGIN)``, the derived width widened for rounding. A smaller
+    :func:`halo_width` for ``accuracy``, the derived width widened for rounding. A smaller
     ``halo`` loses contacts across slab borders (exposed for the tests and experiments).
     """
     c = np.asarray(centres, dtype=np.float32).reshape(-1, 3)
@@ -489,7 +516,7 @@ def plan_slabs(
     if partitions < 1:
         raise ValueError(f"partitions: {partitions} is not a count >= 1")
     if halo is None:
-        halo = reach_halo(velocities, radii, t_max) * (1.0 + HALO_MARGIN)
+        halo = halo_width(centres, velocities, radii, t_max, accuracy)
     halo = float(halo)
     if not halo >= 0:
         raise ValueError(f"halo: {halo} is not a width >= 0")
@@ -663,7 +690,9 @@ def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, co
     )
     if partitions is None:
         partitions = max(1, sum(client.nthreads().values()))
-    plan = plan_slabs(c, v, r, t_max=t_max, partitions=partitions, axis=axis, halo=halo)
+    plan = plan_slabs(
+        c, v, r, t_max=t_max, partitions=partitions, axis=axis, halo=halo, accuracy=accuracy
+    )
     futures = _scatter_slabs(client, c, v, r, m, plan)
     results = client.gather(
         client.map(task, futures, specs=specs, t_max=t_max, accuracy=accuracy,

@@ -30,7 +30,7 @@ def client():
             threads_per_worker=1,
             host="127.0.0.1",
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",
         )
     except Exception as e:  # pragma: no cover - only where processes cannot start
         warnings.warn(f"LocalCluster with processes failed ({e}); using threads")
@@ -39,7 +39,7 @@ def client():
             threads_per_worker=1,
             host="127.0.0.1",
             processes=False,
-            dashboard_address=None,
+            dashboard_address=":0",
         )
     with cluster, distributed.Client(cluster) as c:
         yield c
