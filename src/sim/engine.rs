@@ -1021,6 +1021,13 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 if j != NONE && j as usize >= n {
                     return Err(bad(format!("sphere {id}: partner {j} does not exist")));
                 }
+                // An event without a partner never fires (found by fuzzing: it indexed
+                // sphere 2³² − 1).
+                if j == NONE && t != f64::INFINITY {
+                    return Err(bad(format!(
+                        "sphere {id}: a pair event at t = {t} without a partner"
+                    )));
+                }
                 *p = Candidate { t, j, counter };
             }
             b.complete = d.u8()? != 0;
@@ -1037,7 +1044,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 ShapeKind::Cylinder => self.walls.cylinders.len(),
                 _ => self.walls.containers.len(),
             };
-            if b.wall_t.is_finite() && b.wall.index as usize >= shapes {
+            if b.wall_t != f64::INFINITY && b.wall.index as usize >= shapes {
                 return Err(bad(format!("sphere {id}: {} does not exist", b.wall)));
             }
             b.cross_t = d.f64()?;
@@ -1045,7 +1052,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             b.cross_up = d.u8()? != 0;
             let axis = usize::from(b.cross_axis);
             let next = c[axis] + if b.cross_up { 1 } else { -1 };
-            if !PERIODIC && b.cross_t.is_finite() && (next < 0 || next >= self.cells.n[axis]) {
+            if !PERIODIC && b.cross_t != f64::INFINITY && (next < 0 || next >= self.cells.n[axis]) {
                 return Err(bad(format!("sphere {id}: a crossing out of the grid")));
             }
             if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.cross_t]
