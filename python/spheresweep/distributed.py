@@ -56,9 +56,8 @@ SPHERE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "r")
 HALO_MARGIN = 2.0**-6
 _UNIT_ROUNDOFF = 2.0**-24  # float32
 
-# Kind codes of the query files (docs/query-format.md): 0 none, 1 plane, 2 cylinder,
-# 3 container. The binding's scene query uses 1 sphere, 2 plane, 3 cylinder, 4 container.
-_FILE_KIND = {"plane": 1, "cylinder": 2, "container": 3}
+# The binding's scene query codes kinds 1 sphere, 2 plane, 3 cylinder, 4 container; the query
+# files (docs/query-format.md) code the shapes 1 plane, 2 cylinder, 3 container (0 none).
 _SCENE_KIND_SPHERE = 1
 
 
@@ -195,7 +194,15 @@ def _answer_and_write(frame, apply, args, source, directory, partition_info=None
     except (ValueError, TypeError) as e:
         raise type(e)(f"{source}: partition {number} (rows counted within it): {e}") from e
     table = pa.Table.from_pandas(answered, preserve_index=False)
-    pq.write_table(table, os.path.join(directory, _part_name(number)), compression="snappy")
+    # Dictionary encoding only where it can pay: tried on float columns of distinct values it
+    # is abandoned after the work, and makes writing about eight times slower.
+    dictionary = [f.name for f in table.schema if not pa.types.is_floating(f.type)]
+    pq.write_table(
+        table,
+        os.path.join(directory, _part_name(number)),
+        compression="snappy",
+        use_dictionary=dictionary,
+    )
     time = answered["time"].to_numpy()
     return pd.DataFrame({"rows": [len(time)], "contacts": [int(np.isfinite(time).sum())]})
 
@@ -204,9 +211,13 @@ def _pair_partition(frame, t_max, accuracy):
     """The times of impact of one partition of pairs, appended as ``time``."""
     ss = _native()
     cols = _float_columns(frame, PAIR_COLUMNS)
-    a = ss.Spheres.from_columns(*cols[:7])
-    b = ss.Spheres.from_columns(*cols[7:])
-    return frame.assign(time=ss.zip_times(a, b, t_max=t_max, accuracy=accuracy))
+    sides = []
+    for side, columns in (("a", cols[:7]), ("b", cols[7:])):
+        try:
+            sides.append(ss.Spheres.from_columns(*columns))
+        except (ValueError, TypeError) as e:
+            raise type(e)(f"sphere {side.upper()} (columns {side}x ... {side}r): {e}") from e
+    return frame.assign(time=ss.zip_times(*sides, t_max=t_max, accuracy=accuracy))
 
 
 def _static_partition(frame, specs, t_max, accuracy):
@@ -309,7 +320,7 @@ def _sharded_parquet(source, destination, needed, added, apply, args, client, ov
     final = _local_destination(destination)
     if os.path.lexists(final) and not overwrite:
         raise FileExistsError(f"destination {final} exists (pass overwrite=True to replace it)")
-    label = os.fspath(source)
+    label = os.fspath(source) if isinstance(source, (str, os.PathLike)) else repr(source)
     frame = dd.read_parquet(source, split_row_groups=split_row_groups)
     _check_schema(frame._meta, needed, added, label)
     staged = _staging_name(final, "tmp")
@@ -520,13 +531,12 @@ def plan_slabs(
     halo = float(halo)
     if not halo >= 0:
         raise ValueError(f"halo: {halo} is not a width >= 0")
-    x64 = c.astype(np.float64)
     if axis is None:
-        axis = int(np.argmax(np.ptp(x64, axis=0))) if n else 0
+        axis = int(np.argmax(c.max(axis=0) - c.min(axis=0))) if n else 0
     if axis not in (0, 1, 2):
         raise ValueError(f"axis: {axis} is not 0, 1 or 2")
-    x = x64[:, axis]
-    order = np.argsort(x, kind="stable")
+    x = c[:, axis].astype(np.float64)  # exact; the halo arithmetic below is in float64
+    order = np.argsort(x)
     xs = x[order]
     cuts = [(k * n) // partitions for k in range(1, partitions)]
     bounds = xs[cuts] if n else np.zeros(0)
@@ -589,6 +599,12 @@ def _local_scene(part, specs):
     return ss.Scene(spheres, planes, cylinders, containers), members, owned
 
 
+def _global_partners(kind, index, members):
+    """Partner indices with local sphere indices mapped to global ones (shapes unchanged)."""
+    spheres = kind == _SCENE_KIND_SPHERE
+    return np.where(spheres, members[np.where(spheres, index, 0)], index)
+
+
 def _local_all(part, specs, t_max, accuracy, geometry):
     """One task: the contacts of one slab's scene that the slab owns, with global indices.
 
@@ -602,7 +618,7 @@ def _local_all(part, specs, t_max, accuracy, geometry):
     keep = owned[sphere]
     kind = np.asarray(found.kind)[keep]
     index = np.asarray(found.index)[keep]
-    index = np.where(kind == _SCENE_KIND_SPHERE, members[np.where(kind == _SCENE_KIND_SPHERE, index, 0)], index)
+    index = _global_partners(kind, index, members)
     out = {
         "time": np.asarray(found.time)[keep],
         "sphere": members[sphere[keep]].astype(np.uint32),
@@ -622,8 +638,7 @@ def _local_first(part, specs, t_max, accuracy, geometry):
     found = ss.first_contacts(scene, t_max=t_max, accuracy=accuracy, geometry=geometry)
     kind = np.asarray(found.kind)[owned]
     index = np.asarray(found.index)[owned]
-    sphere_hit = kind == _SCENE_KIND_SPHERE
-    index = np.where(sphere_hit, members[np.where(sphere_hit, index, 0)], index)
+    index = _global_partners(kind, index, members)
     out = {
         "sphere": members[owned],
         "time": np.asarray(found.time)[owned],
@@ -669,7 +684,9 @@ def _scene_inputs(centres, velocities, radii, masses):
             f"velocities and radii: {len(v)} and {len(r)} rows, but centres has {len(c)}"
         )
     # Rounded to float32 once, here: the workers and a single-process query see the same bits.
-    conv = [np.ascontiguousarray(a, dtype=np.float32) if a.dtype.kind == "f" else a for a in (c, v, r)]
+    conv = [
+        np.ascontiguousarray(a, dtype=np.float32) if a.dtype.kind == "f" else a for a in (c, v, r)
+    ]
     m = None if masses is None else np.asarray(masses)
     if m is not None and m.dtype.kind == "f":
         m = np.ascontiguousarray(m, dtype=np.float32)
@@ -707,6 +724,19 @@ def _join(results, name, dtype, width=None):
     return np.concatenate(parts) if parts else np.empty(shape, dtype=dtype)
 
 
+def _single_machine_order(time, sphere):
+    """The permutation into the binding's order (time, sphere, kind, index) of the slabs' rows
+    concatenated slab by slab.
+
+    Every row of a sphere comes from the one slab owning it, already in (kind, index) order, so a
+    stable sort on (time, sphere) alone finishes the job: one 64-bit key, time's bits above the
+    sphere's (times are >= 0, whose float32 bits order as the numbers do; -0 counted as 0).
+    """
+    bits = (np.asarray(time, dtype=np.float32) + np.float32(0)).view(np.uint32)
+    key = (bits.astype(np.uint64) << np.uint64(32)) | np.asarray(sphere, dtype=np.uint64)
+    return np.argsort(key, kind="stable")
+
+
 def all_contacts(
     centres,
     velocities,
@@ -742,7 +772,7 @@ def all_contacts(
     sphere = _join(results, "sphere", np.uint32)
     kind = _join(results, "kind", np.uint8)
     index = _join(results, "index", np.int64)
-    order = np.lexsort((index, kind, sphere, time))
+    order = _single_machine_order(time, sphere)
     point = normal = None
     if geometry:
         point = _join(results, "point", np.float32, 3)[order]
