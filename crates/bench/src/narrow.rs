@@ -13,6 +13,13 @@ use spheresweep::{Container, Cylinder, Plane, QueryOptions, Sphere, SphereStore}
 pub const T_MAX: f32 = 4.0;
 
 /// parry's options for the same window, stopping at penetration (a contact at 0).
+///
+/// ```
+/// use spheresweep_bench::narrow::{T_MAX, cast_options};
+/// let options = cast_options();
+/// assert_eq!(options.max_time_of_impact, T_MAX);
+/// assert!(options.stop_at_penetration);
+/// ```
 pub fn cast_options() -> ShapeCastOptions {
     ShapeCastOptions {
         max_time_of_impact: T_MAX,
@@ -22,6 +29,14 @@ pub fn cast_options() -> ShapeCastOptions {
 }
 
 /// A random sphere in the cube `[−half, half]³` with velocity components up to `speed`.
+///
+/// ```
+/// use spheresweep::rng::Rng;
+/// use spheresweep_bench::narrow::random_sphere;
+/// let s = random_sphere(&mut Rng::new(1), 10.0, 5.0);
+/// assert!(s.centre().abs().max_element() <= 10.0 && s.velocity().abs().max_element() <= 5.0);
+/// assert!((0.2..1.5).contains(&s.radius()));
+/// ```
 pub fn random_sphere(rng: &mut Rng, half: f64, speed: f64) -> Sphere {
     let (c, v, r) = (rng.cube(half), rng.cube(speed), rng.range(0.2, 1.5));
     Sphere::new(c.as_vec3().into(), v.as_vec3().into(), r as f32, 1.0).expect("finite sphere")
@@ -38,6 +53,22 @@ fn ball_at(s: &Sphere) -> BallAt {
 }
 
 /// `n` sphere pairs, as two stores (ours) and as parry balls and poses.
+///
+/// ```
+/// use spheresweep::QueryOptions;
+/// use spheresweep_bench::narrow::{SpherePairs, T_MAX};
+/// let pairs = SpherePairs::new(256, 1);
+/// let (mut ours, mut peer) = (vec![0.0; 256], vec![0.0; 256]);
+/// pairs.ours(QueryOptions::new(T_MAX, Default::default()).unwrap(), &mut ours);
+/// pairs.parry(&mut peer);
+/// // Pairs that start apart: both find the same contacts, at nearly the same times (parry
+/// // reports every overlap at the start as 0, ours only one that deepens).
+/// let apart = pairs.a.iter().zip(pairs.b.iter());
+/// let apart = apart.map(|(a, b)| a.centre().distance(b.centre()) > a.radius() + b.radius());
+/// for ((o, p), _) in ours.iter().zip(&peer).zip(apart).filter(|(_, apart)| *apart) {
+///     assert!(o.is_finite() == p.is_finite() && (!o.is_finite() || (o - p).abs() < 1e-3));
+/// }
+/// ```
 pub struct SpherePairs {
     /// First spheres.
     pub a: SphereStore,
@@ -48,6 +79,13 @@ pub struct SpherePairs {
 
 impl SpherePairs {
     /// `n` random pairs from `seed`.
+    ///
+    /// ```
+    /// use spheresweep_bench::narrow::SpherePairs;
+    /// let pairs = SpherePairs::new(100, 1);
+    /// assert_eq!((pairs.a.len(), pairs.b.len()), (100, 100));
+    /// assert_eq!(SpherePairs::new(100, 1).a, pairs.a); // deterministic in the seed
+    /// ```
     pub fn new(n: usize, seed: u64) -> Self {
         let mut rng = Rng::new(seed);
         let a: Vec<Sphere> = (0..n).map(|_| random_sphere(&mut rng, 10.0, 5.0)).collect();
@@ -65,11 +103,28 @@ impl SpherePairs {
     }
 
     /// Ours: `batch::zip_times`.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, batch};
+    /// use spheresweep_bench::narrow::SpherePairs;
+    /// let pairs = SpherePairs::new(64, 1);
+    /// let (mut out, mut want) = (vec![0.0; 64], vec![0.0; 64]);
+    /// pairs.ours(QueryOptions::default(), &mut out);
+    /// batch::zip_times(&pairs.a, &pairs.b, QueryOptions::default(), &mut want).unwrap();
+    /// assert_eq!(out, want);
+    /// ```
     pub fn ours(&self, options: QueryOptions, out: &mut [f32]) {
         batch::zip_times(&self.a, &self.b, options, out).expect("equal lengths");
     }
 
     /// parry3d: `query::cast_shapes` per pair.
+    ///
+    /// ```
+    /// use spheresweep_bench::narrow::{SpherePairs, T_MAX};
+    /// let mut out = vec![0.0; 64];
+    /// SpherePairs::new(64, 1).parry(&mut out);
+    /// assert!(out.iter().all(|&t| t == f32::INFINITY || (0.0..=T_MAX).contains(&t)));
+    /// ```
     pub fn parry(&self, out: &mut [f32]) {
         for (((p1, v1, g1), (p2, v2, g2)), o) in self.parry.iter().zip(out.iter_mut()) {
             let hit = query::cast_shapes(p1, *v1, g1, p2, *v2, g2, cast_options())
@@ -79,6 +134,15 @@ impl SpherePairs {
     }
 
     /// parry3d's direct ball–ball path, `query::details::cast_shapes_ball_ball`.
+    ///
+    /// ```
+    /// use spheresweep_bench::narrow::SpherePairs;
+    /// let pairs = SpherePairs::new(64, 1);
+    /// let (mut direct, mut generic) = (vec![0.0; 64], vec![0.0; 64]);
+    /// pairs.parry_ball_ball(&mut direct);
+    /// pairs.parry(&mut generic);
+    /// assert!(direct.iter().zip(&generic).all(|(a, b)| a == b || (a - b).abs() < 1e-3));
+    /// ```
     pub fn parry_ball_ball(&self, out: &mut [f32]) {
         for (((p1, v1, g1), (p2, v2, g2)), o) in self.parry.iter().zip(out.iter_mut()) {
             let hit = query::details::cast_shapes_ball_ball(
@@ -94,6 +158,20 @@ impl SpherePairs {
 }
 
 /// `n` spheres against one static shape, ours and (where parry has the shape) parry's.
+///
+/// ```
+/// use spheresweep::QueryOptions;
+/// use spheresweep_bench::narrow::{T_MAX, plane};
+/// let floor = plane(256, 1);
+/// let (mut ours, mut peer) = (vec![0.0; 256], vec![0.0; 256]);
+/// floor.ours(QueryOptions::new(T_MAX, Default::default()).unwrap(), &mut ours);
+/// floor.parry(&mut peer);
+/// // Spheres below the plane are inside parry's half-space (a contact at 0): compare the others.
+/// let above = floor.spheres.iter().map(|s| s.centre().z > s.radius());
+/// for ((o, p), _) in ours.iter().zip(&peer).zip(above).filter(|(_, above)| *above) {
+///     assert!(o.is_finite() == p.is_finite() && (!o.is_finite() || (o - p).abs() < 1e-3));
+/// }
+/// ```
 pub struct AgainstStatic<K> {
     /// The spheres.
     pub spheres: SphereStore,
@@ -118,16 +196,39 @@ impl<K: StaticShape> AgainstStatic<K> {
     }
 
     /// Ours: `batch::static_times`.
+    ///
+    /// ```
+    /// use spheresweep::{QueryOptions, batch};
+    /// use spheresweep_bench::narrow::container;
+    /// let vessel = container(64, 1);
+    /// let (mut out, mut want) = (vec![0.0; 64], vec![0.0; 64]);
+    /// vessel.ours(QueryOptions::default(), &mut out);
+    /// let options = QueryOptions::default();
+    /// batch::static_times(&vessel.spheres, &vessel.shape, options, &mut want).unwrap();
+    /// assert_eq!(out, want);
+    /// ```
     pub fn ours(&self, options: QueryOptions, out: &mut [f32]) {
         batch::static_times(&self.spheres, &self.shape, options, out).expect("one slot each");
     }
 
     /// Whether parry has this shape (it has no inside-of-a-ball cast).
+    ///
+    /// ```
+    /// use spheresweep_bench::narrow::{container, cylinder};
+    /// assert!(cylinder(8, 1).has_peer() && !container(8, 1).has_peer());
+    /// ```
     pub fn has_peer(&self) -> bool {
         self.peer.is_some()
     }
 
     /// parry3d: `query::cast_shapes` per sphere (no-op without a peer shape).
+    ///
+    /// ```
+    /// use spheresweep_bench::narrow::container;
+    /// let mut out = vec![-1.0; 8];
+    /// container(8, 1).parry(&mut out); // no peer: nothing written
+    /// assert_eq!(out, [-1.0; 8]);
+    /// ```
     pub fn parry(&self, out: &mut [f32]) {
         let Some((pose, shape)) = &self.peer else {
             return;
@@ -141,6 +242,11 @@ impl<K: StaticShape> AgainstStatic<K> {
 }
 
 /// The plane `z = 0` facing `+z`; parry's half-space is the solid `z ≤ 0` with that normal.
+///
+/// ```
+/// let floor = spheresweep_bench::narrow::plane(10, 1);
+/// assert_eq!((floor.spheres.len(), floor.shape.normal().z), (10, 1.0));
+/// ```
 pub fn plane(n: usize, seed: u64) -> AgainstStatic<Plane> {
     let plane = Plane::new([0.0; 3], [0.0, 0.0, 1.0]).expect("valid plane");
     let peer: Box<dyn ParryShape> = Box::new(HalfSpace::new(Vector::Z));
@@ -149,6 +255,12 @@ pub fn plane(n: usize, seed: u64) -> AgainstStatic<Plane> {
 
 /// An infinite pillar along `(0.3, 1, 0.2)`; parry's finite cylinder is 2000 long (a hundred
 /// times the scene), turned onto the same axis.
+///
+/// ```
+/// let pillar = spheresweep_bench::narrow::cylinder(10, 1);
+/// assert_eq!(pillar.shape.radius(), 2.0);
+/// assert!((pillar.shape.axis().length() - 1.0).abs() < 1e-6);
+/// ```
 pub fn cylinder(n: usize, seed: u64) -> AgainstStatic<Cylinder> {
     let axis = glam::Vec3::new(0.3, 1.0, 0.2).normalize();
     let cylinder = Cylinder::from_axis([0.0; 3], axis.into(), 2.0).expect("valid cylinder");
@@ -161,6 +273,11 @@ pub fn cylinder(n: usize, seed: u64) -> AgainstStatic<Cylinder> {
 }
 
 /// A vessel of radius 40 (parry has no inside-of-a-ball cast: no peer).
+///
+/// ```
+/// let vessel = spheresweep_bench::narrow::container(10, 1);
+/// assert_eq!(vessel.shape.radius(), 40.0);
+/// ```
 pub fn container(n: usize, seed: u64) -> AgainstStatic<Container> {
     let vessel = Container::new([0.0; 3], 40.0).expect("valid vessel");
     AgainstStatic::with(n, seed, vessel, None)
