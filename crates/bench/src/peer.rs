@@ -19,6 +19,11 @@ use parry3d::math::Vector;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 
 /// Converts one `lo`/`hi` box into parry's [`Aabb`].
+///
+/// ```
+/// let aabb = spheresweep_bench::peer::to_aabb([0.0, 1.0, 2.0], [3.0, 4.0, 5.0]);
+/// assert_eq!((aabb.mins.x, aabb.maxs.z), (0.0, 5.0));
+/// ```
 #[inline]
 pub fn to_aabb(lo: [f32; 3], hi: [f32; 3]) -> Aabb {
     Aabb::new(Vector::from(lo), Vector::from(hi))
@@ -52,6 +57,17 @@ fn self_pairs(bvh: &Bvh, ws: &mut BvhWorkspace, f: &mut impl FnMut(u32, u32)) ->
 }
 
 /// Rebuild-every-step peer: a fresh `Bvh` per step, then a self-traversal.
+///
+/// ```
+/// // Boxes 0 and 1 overlap, 1 and 2 touch on a face (closed boxes: a pair), 0 and 2 are apart.
+/// let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+/// let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+/// use spheresweep_bench::peer::ParryRebuild;
+/// let mut pairs = Vec::new();
+/// assert_eq!(ParryRebuild::new().collect(&lo, &hi, &mut pairs), 2);
+/// pairs.sort();
+/// assert_eq!(pairs, [(0, 1), (1, 2)]);
+/// ```
 #[derive(Default)]
 pub struct ParryRebuild {
     /// Build strategy (default: [`BvhBuildStrategy::Binned`], the faster builder).
@@ -61,21 +77,51 @@ pub struct ParryRebuild {
 
 impl ParryRebuild {
     /// A rebuilder using the binned SAH build.
+    ///
+    /// ```
+    /// assert_eq!(spheresweep_bench::peer::ParryRebuild::new().count(&[], &[]), 0);
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
 
     /// Builds a tree over the boxes and returns the number of overlapping pairs.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// assert_eq!(spheresweep_bench::peer::ParryRebuild::new().count(&lo, &hi), 2);
+    /// ```
     pub fn count(&mut self, lo: &[[f32; 3]], hi: &[[f32; 3]]) -> u64 {
         self.for_each_pair(lo, hi, |_, _| {})
     }
 
     /// Like [`Self::count`], also appending every pair `(i, j)`, `i < j`, to `out`.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// let mut pairs = vec![(7, 7)]; // appended to
+    /// spheresweep_bench::peer::ParryRebuild::new().collect(&lo, &hi, &mut pairs);
+    /// assert_eq!(pairs.len(), 3);
+    /// ```
     pub fn collect(&mut self, lo: &[[f32; 3]], hi: &[[f32; 3]], out: &mut Vec<(u32, u32)>) -> u64 {
         self.for_each_pair(lo, hi, |i, j| out.push((i, j)))
     }
 
     /// Builds a tree over the boxes and calls `f(i, j)` per overlapping pair.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// let mut touched = [0; 3];
+    /// spheresweep_bench::peer::ParryRebuild::new().for_each_pair(&lo, &hi, |i, j| {
+    ///     assert!(i < j);
+    ///     touched[i as usize] += 1;
+    ///     touched[j as usize] += 1;
+    /// });
+    /// assert_eq!(touched, [1, 2, 1]);
+    /// ```
     pub fn for_each_pair(
         &mut self,
         lo: &[[f32; 3]],
@@ -88,6 +134,18 @@ impl ParryRebuild {
 }
 
 /// Persistent-tree peer: update leaves in place, refit, self-traverse.
+///
+/// ```
+/// // Boxes 0 and 1 overlap, 1 and 2 touch on a face (closed boxes: a pair), 0 and 2 are apart.
+/// let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+/// let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+/// use spheresweep_bench::peer::ParryIncremental;
+/// let mut peer = ParryIncremental::new();
+/// assert_eq!(peer.count(&lo, &hi), 2); // builds the tree
+/// let far = [[0.0; 3], [10.0, 0.0, 0.0], [20.0, 0.0, 0.0]];
+/// let far_hi = [[2.0, 1.0, 1.0], [12.0, 1.0, 1.0], [22.0, 1.0, 1.0]];
+/// assert_eq!(peer.count(&far, &far_hi), 0); // leaves moved in place, tree refitted
+/// ```
 #[derive(Default)]
 pub struct ParryIncremental {
     bvh: Bvh,
@@ -99,16 +157,36 @@ pub struct ParryIncremental {
 
 impl ParryIncremental {
     /// An empty peer; the first step (or any change of box count) builds the tree.
+    ///
+    /// ```
+    /// assert_eq!(spheresweep_bench::peer::ParryIncremental::new().count(&[], &[]), 0);
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
 
     /// Updates the tree to the boxes and returns the number of overlapping pairs.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// let mut peer = spheresweep_bench::peer::ParryIncremental::new();
+    /// assert_eq!((peer.count(&lo, &hi), peer.count(&lo, &hi)), (2, 2)); // build, then update
+    /// ```
     pub fn count(&mut self, lo: &[[f32; 3]], hi: &[[f32; 3]]) -> u64 {
         self.for_each_pair(lo, hi, |_, _| {})
     }
 
     /// Like [`Self::count`], also appending every pair `(i, j)`, `i < j`, to `out`.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// let mut pairs = Vec::new();
+    /// spheresweep_bench::peer::ParryIncremental::new().collect(&lo, &hi, &mut pairs);
+    /// pairs.sort();
+    /// assert_eq!(pairs, [(0, 1), (1, 2)]);
+    /// ```
     pub fn collect(&mut self, lo: &[[f32; 3]], hi: &[[f32; 3]], out: &mut Vec<(u32, u32)>) -> u64 {
         self.for_each_pair(lo, hi, |i, j| out.push((i, j)))
     }
@@ -119,6 +197,15 @@ impl ParryIncremental {
     /// rebuilt from scratch (binned); otherwise every leaf `i` is overwritten
     /// with box `i` (no fattening margin, so the reported pairs are exact)
     /// and the tree is refitted bottom-up with its topology unchanged.
+    ///
+    /// ```
+    /// # let lo = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
+    /// # let hi = [[2.0, 1.0, 1.0], [3.0, 1.0, 1.0], [4.0, 1.0, 1.0]];
+    /// let mut count = 0;
+    /// let mut peer = spheresweep_bench::peer::ParryIncremental::new();
+    /// let n = peer.for_each_pair(&lo, &hi, |_, _| count += 1);
+    /// assert_eq!((n, count), (2, 2));
+    /// ```
     pub fn for_each_pair(
         &mut self,
         lo: &[[f32; 3]],
@@ -282,6 +369,16 @@ mod tests {
 
 /// The swept boxes of `store`'s spheres over `[0, t_max]`, as the peer takes them (`lo`, `hi`
 /// cleared first): `min(c, c + v t_max) − r` and `max(…) + r` per axis.
+///
+/// ```
+/// use spheresweep::{Sphere, SphereStore};
+/// use spheresweep_bench::peer::swept_boxes_into;
+/// let sphere = Sphere::new([0.0; 3], [-1.0, 0.0, 2.0], 0.5, 1.0).unwrap();
+/// let store = SphereStore::from_spheres(&[sphere]);
+/// let (mut lo, mut hi) = (Vec::new(), Vec::new());
+/// swept_boxes_into(&store, 2.0, &mut lo, &mut hi);
+/// assert_eq!((lo[0], hi[0]), ([-2.5, -0.5, -0.5], [0.5, 0.5, 4.5]));
+/// ```
 pub fn swept_boxes_into(
     store: &spheresweep::SphereStore,
     t_max: f32,
@@ -299,6 +396,20 @@ pub fn swept_boxes_into(
 
 /// The whole first-contact query on parry3d: [`ParryIncremental`] for the candidate pairs,
 /// then `query::cast_shapes` on each, the earliest per sphere kept — what a parry user writes.
+///
+/// ```
+/// use spheresweep::{QueryOptions, Sphere, SphereStore, batch::earliest_sphere_contact};
+/// use spheresweep_bench::peer::ParryQuery;
+/// let store = SphereStore::from_spheres(&[
+///     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0).unwrap(),
+///     Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0).unwrap(),
+///     Sphere::new([0.0, 50.0, 0.0], [0.0; 3], 1.0, 1.0).unwrap(),
+/// ]);
+/// let mut out = [0.0; 3];
+/// ParryQuery::new().first_contacts(&store, 10.0, &mut out);
+/// assert!((out[0] - 4.0).abs() < 1e-3 && (out[1] - 4.0).abs() < 1e-3);
+/// assert_eq!(out[2], f32::INFINITY);
+/// ```
 #[derive(Default)]
 pub struct ParryQuery {
     broad: ParryIncremental,
@@ -309,12 +420,33 @@ pub struct ParryQuery {
 
 impl ParryQuery {
     /// A query with an empty tree.
+    ///
+    /// ```
+    /// use spheresweep::SphereStore;
+    /// let mut out: [f32; 0] = [];
+    /// let mut query = spheresweep_bench::peer::ParryQuery::new();
+    /// assert_eq!(query.first_contacts(&SphereStore::new(), 1.0, &mut out), 0);
+    /// ```
     pub fn new() -> Self {
         Self::default()
     }
 
     /// The earliest contact time of every sphere of `store` with any other in `[0, t_max]`
     /// (`+∞` for none), written to `out`; returns the number of candidate pairs.
+    ///
+    /// ```
+    /// use spheresweep::{Sphere, SphereStore};
+    /// use spheresweep_bench::peer::ParryQuery;
+    /// let store = SphereStore::from_spheres(&[
+    ///     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0).unwrap(),
+    ///     Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0).unwrap(),
+    /// ]);
+    /// let mut out = [0.0; 2];
+    /// // One candidate pair over [0, 10]; none over [0, 1], where the boxes are apart.
+    /// assert_eq!(ParryQuery::new().first_contacts(&store, 10.0, &mut out), 1);
+    /// assert_eq!(ParryQuery::new().first_contacts(&store, 1.0, &mut out), 0);
+    /// assert_eq!(out, [f32::INFINITY; 2]);
+    /// ```
     pub fn first_contacts(
         &mut self,
         store: &spheresweep::SphereStore,
