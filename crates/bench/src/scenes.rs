@@ -25,6 +25,13 @@ pub fn uniform_gas(n: usize, phi: f64, seed: u64) -> SphereStore {
 }
 
 /// The side of the cube holding `n` unit spheres at packing fraction `phi`.
+///
+/// ```
+/// use spheresweep_bench::scenes::box_side;
+/// let side = box_side(1000, 0.3);
+/// let phi = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI / side.powi(3);
+/// assert!((phi - 0.3).abs() < 1e-12);
+/// ```
 pub fn box_side(n: usize, phi: f64) -> f64 {
     (n as f64 * 4.0 / 3.0 * std::f64::consts::PI / phi).cbrt()
 }
@@ -32,6 +39,12 @@ pub fn box_side(n: usize, phi: f64) -> f64 {
 /// A clustered scene: `n` unit spheres in clumps of about a hundred, each clump a ball at
 /// packing fraction about 0.3, the clumps spread over a cube at overall packing fraction
 /// 0.01 — dense cells next to empty space.
+///
+/// ```
+/// let scene = spheresweep_bench::scenes::clustered(1000, 1);
+/// assert_eq!(scene.len(), 1000);
+/// assert!(scene.iter().all(|s| s.radius() == 1.0));
+/// ```
 pub fn clustered(n: usize, seed: u64) -> SphereStore {
     let mut rng = Rng::new(seed);
     let clumps = n.div_ceil(100).max(1);
@@ -48,6 +61,10 @@ pub fn clustered(n: usize, seed: u64) -> SphereStore {
 }
 
 /// The window in which a sphere of speed about 1 travels `radii` radii.
+///
+/// ```
+/// assert_eq!(spheresweep_bench::scenes::window(2.0), 2.0); // speed 1, radius 1
+/// ```
 pub fn window(radii: f32) -> f32 {
     radii
 }
