@@ -11,6 +11,12 @@ use std::time::Instant;
 use spheresweep::sim::{Effects, MaterialPair, Response, Simulation, Stats, World, generate};
 
 /// The peer's gas: `n` spheres of diameter 1 on an FCC lattice at packing fraction `phi`.
+///
+/// ```
+/// let world = spheresweep_bench::sim::gas(500, 0.25, 1);
+/// assert_eq!(world.spheres.len(), 500);
+/// assert!(world.spheres.iter().all(|s| s.radius == 0.5 && s.mass == 1.0));
+/// ```
 pub fn gas(n: usize, phi: f64, seed: u64) -> World {
     let mut w = World::default();
     generate::periodic_gas(&mut w, n, phi, 0.5, 1.0, seed).expect("valid gas");
@@ -20,6 +26,14 @@ pub fn gas(n: usize, phi: f64, seed: u64) -> World {
 /// The same gas with effects declared that no sphere uses: a second material (no sphere has
 /// it) that is sticky with itself and inelastic with the first, and a TC time. The engine
 /// assembled for it must be the plain elastic one.
+///
+/// ```
+/// use spheresweep::sim::Simulation;
+/// use spheresweep_bench::sim::{gas, gas_with_unused_effects};
+/// let plain = Simulation::new(gas(500, 0.25, 1)).unwrap();
+/// let declared = Simulation::new(gas_with_unused_effects(500, 0.25, 1)).unwrap();
+/// assert_eq!(declared.engine_name(), plain.engine_name()); // the elastic engine either way
+/// ```
 pub fn gas_with_unused_effects(n: usize, phi: f64, seed: u64) -> World {
     let mut w = gas(n, phi, seed);
     w.materials = vec!["gas".into(), "glue".into()];
@@ -44,6 +58,15 @@ pub fn gas_with_unused_effects(n: usize, phi: f64, seed: u64) -> World {
 
 /// Collisions per unit time of the gas from the Enskog theory with the Carnahan–Starling
 /// contact value (diameter, mass and kT 1): `N/2 · 4 ρ g(σ) √π`.
+///
+/// ```
+/// use spheresweep_bench::sim::enskog_collision_rate;
+/// // Dilute limit: g → 1, so the rate per sphere is 2ρ√π with ρ = 6φ/π.
+/// let phi: f64 = 1e-6;
+/// let per_sphere = enskog_collision_rate(1, phi);
+/// let dilute = 2.0 * 6.0 * phi / std::f64::consts::PI * std::f64::consts::PI.sqrt();
+/// assert!((per_sphere / dilute - 1.0).abs() < 1e-5);
+/// ```
 pub fn enskog_collision_rate(n: usize, phi: f64) -> f64 {
     let rho = 6.0 * phi / std::f64::consts::PI;
     let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
@@ -51,6 +74,12 @@ pub fn enskog_collision_rate(n: usize, phi: f64) -> f64 {
 }
 
 /// One measured run.
+///
+/// ```
+/// use spheresweep_bench::sim::{gas, measure};
+/// let rate = measure(gas(500, 0.25, 1), 5000);
+/// assert!(rate.collisions > 2500 && rate.per_second() > 0.0 && rate.bytes > 0);
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct Rate {
     /// Collisions processed.
@@ -65,6 +94,12 @@ pub struct Rate {
 
 impl Rate {
     /// Collisions per second.
+    ///
+    /// ```
+    /// use spheresweep_bench::sim::{gas, measure};
+    /// let rate = measure(gas(256, 0.25, 1), 2000);
+    /// assert_eq!(rate.per_second(), rate.collisions as f64 / rate.seconds);
+    /// ```
     pub fn per_second(&self) -> f64 {
         self.collisions as f64 / self.seconds
     }
@@ -72,6 +107,13 @@ impl Rate {
 
 /// Runs `world` for about `collisions` collisions (from the Enskog rate) and times it; setup
 /// (building the engine, the first predictions) is not timed, as the peer's is not.
+///
+/// ```
+/// use spheresweep_bench::sim::{gas, measure};
+/// let rate = measure(gas(500, 0.25, 1), 5000);
+/// assert_eq!(rate.stats.pair_collisions, rate.collisions);
+/// assert!(rate.collisions > 2500); // about 5000, from the Enskog rate
+/// ```
 pub fn measure(world: World, collisions: u64) -> Rate {
     let n = world.spheres.len();
     let phi = match world.boundary {
@@ -102,6 +144,13 @@ pub fn measure(world: World, collisions: u64) -> Rate {
 /// The peer's collisions per second at `n`, `phi` for about `collisions` collisions: builds and
 /// runs `scripts/edmd_peer.sh EDMD_DIR N PHI auto` (gcc `-Ofast -march=native`, pinned to one
 /// core). An error says why (no checkout, no gcc, a failed build).
+///
+/// ```
+/// use std::path::Path;
+/// use spheresweep_bench::sim::peer_rate;
+/// let err = peer_rate(Path::new("/no/such/edmd"), 4000, 0.25, 1000).unwrap_err();
+/// assert!(err.contains("failed")); // no checkout there: the script says so
+/// ```
 pub fn peer_rate(edmd_dir: &Path, n: usize, phi: f64, collisions: u64) -> Result<f64, String> {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/edmd_peer.sh");
     let out = Command::new("bash")
@@ -131,6 +180,12 @@ pub fn peer_rate(edmd_dir: &Path, n: usize, phi: f64, collisions: u64) -> Result
 }
 
 /// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
+///
+/// ```
+/// if let Some(bytes) = spheresweep_bench::sim::peak_resident_bytes() {
+///     assert!(bytes > 0); // Linux: this process's VmHWM
+/// }
+/// ```
 pub fn peak_resident_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
