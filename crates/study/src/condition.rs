@@ -13,6 +13,12 @@ use super::oracle::{Exact, Inputs};
 use super::pair::Pair;
 
 /// The spacing of the f32 numbers just above `|t|` rounded to f32 (its ulp), in f64.
+///
+/// ```
+/// use spheresweep_study::ulp32;
+/// assert_eq!(ulp32(1.0), f64::from(f32::EPSILON)); // 2⁻²³
+/// assert_eq!(ulp32(-4.0), 4.0 * f64::from(f32::EPSILON));
+/// ```
 pub fn ulp32(t: f64) -> f64 {
     let f = (t.abs() as f32).min(f32::MAX);
     f64::from(f.next_up()) - f64::from(f)
@@ -24,6 +30,22 @@ pub fn ulp32(t: f64) -> f64 {
 /// `None` when the oracle finds no contact ahead (`t* = 0` or no contact: the time error is
 /// not measured there). `Some(+∞)` when some input, moved by one ulp either way, loses the
 /// contact: hit or miss itself is then decided by the last bit of an input.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep_study::condition;
+/// let kappa = condition(&pair).unwrap();
+/// assert!(kappa.is_finite() && kappa > 0.0); // a head-on contact is well-conditioned
+/// let receding = Sphere::new([10.0, 0.0, 0.0], [2.0, 0.0, 0.0], 1.0, 1.0)?;
+/// let apart = Pair { other: receding.into(), ..pair };
+/// assert_eq!(condition(&apart), None); // no contact ahead
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn condition(pair: &Pair) -> Option<f64> {
     let inputs = Inputs::of(pair);
     let t = Exact::from_inputs(&inputs).time(f64::INFINITY)?;
