@@ -14,6 +14,13 @@ use spheresweep::{Container, Cylinder, Plane, Sphere};
 use spheresweep::{Shape, ShapeKind};
 
 /// A family of hard cases.
+///
+/// ```
+/// use spheresweep::ShapeKind;
+/// use spheresweep_study::Family;
+/// assert_eq!((Family::Grazing.name(), Family::Grazing.kind()), ("grazing", ShapeKind::Sphere));
+/// assert_eq!(Family::ALL.len(), 22);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Family {
     /// Well-conditioned sphere pairs: closest approach at least 10 % from grazing.
@@ -95,6 +102,11 @@ impl Family {
     ];
 
     /// Short name for tables.
+    ///
+    /// ```
+    /// use spheresweep_study::Family;
+    /// assert_eq!(Family::WindowEdgePlane.name(), "window-edge-plane");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             Family::Baseline => "baseline",
@@ -123,6 +135,13 @@ impl Family {
     }
 
     /// The kind of body the sphere meets in this family.
+    ///
+    /// ```
+    /// use spheresweep::ShapeKind;
+    /// use spheresweep_study::Family;
+    /// assert_eq!(Family::ContainerWall.kind(), ShapeKind::Container);
+    /// assert_eq!(Family::CylinderAlongAxis.kind(), ShapeKind::Cylinder);
+    /// ```
     pub fn kind(self) -> ShapeKind {
         match self {
             Family::Baseline
@@ -151,6 +170,11 @@ impl Family {
     }
 
     /// The difficulty `k` the study and `tests/hard_cases.rs` state results at.
+    ///
+    /// ```
+    /// use spheresweep_study::Family;
+    /// assert_eq!((Family::Baseline.stated_level(), Family::Grazing.stated_level()), (0, 5));
+    /// ```
     pub fn stated_level(self) -> u32 {
         match self {
             Family::Baseline => 0,
@@ -165,11 +189,26 @@ impl Family {
     }
 
     /// One pair of the family at difficulty `k` (the pair of [`Family::case`]).
+    ///
+    /// ```
+    /// use spheresweep::Shape;
+    /// use spheresweep_study::{Family, Rng};
+    /// let pair = Family::ParallelToPlane.generate(&mut Rng::new(1), 3);
+    /// assert!(matches!(pair.other, Shape::Plane(_)));
+    /// ```
     pub fn generate(self, rng: &mut Rng, k: u32) -> Pair {
         self.case(rng, k).pair
     }
 
     /// One case of the family at difficulty `k`: a pair and its window.
+    ///
+    /// ```
+    /// use spheresweep_study::{Family, Rng};
+    /// let mut rng = Rng::new(1);
+    /// assert_eq!(Family::Baseline.case(&mut rng, 0).t_max, f32::INFINITY); // an open window
+    /// // A window-edge case's window ends near its contact.
+    /// assert!(Family::WindowEdgeSphere.case(&mut rng, 4).t_max.is_finite());
+    /// ```
     pub fn case(self, rng: &mut Rng, k: u32) -> Case {
         let e = 10f64.powi(k as i32);
         let pair = match self {
@@ -472,6 +511,11 @@ fn window_edge(rng: &mut Rng, kind: ShapeKind, k: u32) -> Case {
 }
 
 /// What the scale sweep multiplies by the scale `s`.
+///
+/// ```
+/// use spheresweep_study::Scaling;
+/// assert_eq!(Scaling::ALL.map(Scaling::name), ["lengths", "speeds", "all"]);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Scaling {
     /// Positions (centres, points on planes and axes) and radii: times scale by `s`.
@@ -487,6 +531,10 @@ impl Scaling {
     pub const ALL: [Scaling; 3] = [Scaling::Lengths, Scaling::Speeds, Scaling::All];
 
     /// Short name for messages.
+    ///
+    /// ```
+    /// assert_eq!(spheresweep_study::Scaling::Speeds.name(), "speeds");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             Scaling::Lengths => "lengths",
@@ -504,6 +552,16 @@ impl Scaling {
 ///
 /// `None` when a scaled input is not a finite f32 (the case is skipped). Normals and axes are
 /// not scaled.
+///
+/// ```
+/// use spheresweep::{Shape, ShapeKind};
+/// use spheresweep_study::{Rng, Scaling, scaled_case};
+/// let mut rng = Rng::new(1);
+/// let case = scaled_case(ShapeKind::Plane, &mut rng, Scaling::Lengths, 1e6).unwrap();
+/// assert!(matches!(case.pair.other, Shape::Plane(_)));
+/// // Lengths of 10⁴⁰ are beyond f32: the case is skipped.
+/// assert!(scaled_case(ShapeKind::Sphere, &mut rng, Scaling::Lengths, 1e40).is_none());
+/// ```
 pub fn scaled_case(kind: ShapeKind, rng: &mut Rng, scaling: Scaling, s: f64) -> Option<Case> {
     let base = Inputs::of(&well_conditioned(rng, kind));
     let (lengths, speeds) = match scaling {
