@@ -39,6 +39,12 @@ pub const SWEPT: [Family; 10] = [
 /// Runs the whole study: every family at its stated difficulty, the swept families at every
 /// difficulty (a quarter of the cases each), then the throughput of every path; `progress` is
 /// told after each step (`done`, `total`).
+///
+/// ``` no_run
+/// // The whole study takes minutes (`spheresweep accuracy --cases N` runs it).
+/// let report = spheresweep_study::run(1000, 1, |done, total| eprintln!("{done}/{total}"));
+/// assert_eq!(report.families.len(), spheresweep_study::Family::ALL.len());
+/// ```
 pub fn run(cases: usize, seed: u64, mut progress: impl FnMut(usize, usize)) -> Report {
     let total = Family::ALL.len() + SWEPT.len() + 1;
     let families = Family::ALL
