@@ -14,6 +14,13 @@ use spheresweep::{Accuracy, Shape, SphereStore};
 use spheresweep::{QueryOptions, batch};
 
 /// A way to answer a pair: one of our accuracy modes, or parry3d.
+///
+/// ```
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::Path;
+/// assert_eq!(Path::ALL.len(), 4); // three modes and parry3d
+/// assert_eq!(Path::Mode(Accuracy::Stable).name(), "stable");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Path {
     /// An 8-wide kernel in this mode.
@@ -31,6 +38,10 @@ impl Path {
         Path::Parry,
     ];
     /// Name for tables.
+    ///
+    /// ```
+    /// assert_eq!(spheresweep_study::Path::Parry.name(), "parry3d");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             Path::Mode(m) => m.name(),
@@ -40,6 +51,12 @@ impl Path {
 }
 
 /// Percentiles of a sample.
+///
+/// ```
+/// use spheresweep_study::Summary;
+/// let s = Summary::of((1..=100).map(f64::from).collect());
+/// assert_eq!((s.p50, s.p99, s.max, s.count), (51.0, 99.0, 100.0, 100)); // nearest rank
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Summary {
     /// Median.
@@ -54,6 +71,12 @@ pub struct Summary {
 
 impl Summary {
     /// Percentiles of `values` (all zero for an empty sample).
+    ///
+    /// ```
+    /// use spheresweep_study::Summary;
+    /// assert_eq!(Summary::of(vec![3.0, 1.0, 2.0]).p50, 2.0);
+    /// assert_eq!(Summary::of(Vec::new()), Summary::default());
+    /// ```
     pub fn of(mut values: Vec<f64>) -> Self {
         if values.is_empty() {
             return Self::default();
@@ -70,6 +93,15 @@ impl Summary {
 }
 
 /// How one path did on one family.
+///
+/// ```
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::{Family, Path, measure_family};
+/// let result = measure_family(Family::Baseline, 0, 100, 1);
+/// let stable = result.paths.iter().find(|r| r.path == Path::Mode(Accuracy::Stable)).unwrap();
+/// assert_eq!(stable.cases, 100);
+/// assert_eq!(stable.wrong_outside_band, 0); // every wrong answer lies in the stated band
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathResult {
     /// Which path.
@@ -100,6 +132,14 @@ pub struct PathResult {
 }
 
 /// Every path's result on one family at one difficulty.
+///
+/// ```
+/// use spheresweep_study::{Family, Path, measure_family};
+/// let result = measure_family(Family::Grazing, 3, 50, 1);
+/// assert_eq!((result.family, result.level), (Family::Grazing, 3));
+/// assert_eq!(result.paths.len(), Path::ALL.len());
+/// assert!(result.condition.count + result.unbounded <= 50);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct FamilyResult {
     /// The family.
@@ -128,6 +168,21 @@ pub const U64: f64 = 1.0 / (1u64 << 53) as f64;
 /// The band of grazing margins `|D − d_min|` inside which `path` may give the wrong hit/miss
 /// answer (docs/derivations/accuracy.md): `Stable` `8u(X + D)`, `Double` `8u₆₄(X + D)`,
 /// `Textbook` `4u(X² + D²)/D`. parry3d is given no band.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::{Path, band, measure::U32};
+/// // stable: 8u(X + D), X = ‖r_B0 − r_A0‖ = 10, D = 2.
+/// assert_eq!(band(Path::Mode(Accuracy::Stable), &pair, 2.0), 8.0 * U32 * 12.0);
+/// assert_eq!(band(Path::Parry, &pair, 2.0), 0.0);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn band(path: Path, pair: &Pair, d: f64) -> f64 {
     match path {
         Path::Mode(Accuracy::Stable) => 8.0 * U32 * (pair.operand_scale(Accuracy::Stable) + d),
@@ -145,6 +200,13 @@ pub fn band(path: Path, pair: &Pair, d: f64) -> f64 {
 /// kernel whose answer is the exact time of its inputs moved by up to 8 of its own roundings
 /// each is off by up to `8κ` ulps (`8κ u₆₄/u` for `double`), plus the final rounding of an
 /// f32 time. parry3d is given no band.
+///
+/// ```
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::{Path, window_band};
+/// assert_eq!(window_band(Path::Mode(Accuracy::Stable), 1.0), 9.0); // 8κ + 1
+/// assert_eq!(window_band(Path::Parry, 1.0), 0.0);
+/// ```
 pub fn window_band(path: Path, kappa: f64) -> f64 {
     match path {
         Path::Mode(Accuracy::Double) => 8.0 * kappa * U64 / U32,
@@ -157,6 +219,25 @@ pub fn window_band(path: Path, kappa: f64) -> f64 {
 /// closest approach is farther from grazing than [`band`], and the unwindowed contact time is
 /// farther from the window's end than [`window_band`] (with `kappa`, the case's condition
 /// number if already known: it is estimated here otherwise).
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::{Case, Exact, Path, wrong_outside_band};
+/// let stable = Path::Mode(Accuracy::Stable);
+/// // Head-on, 2 from grazing, an open window: a wrong answer here would be outside the band.
+/// assert!(wrong_outside_band(stable, &Case::open(pair), &Exact::of(&pair), None));
+/// // Exactly grazing: inside it.
+/// let aside = Sphere::new([10.0, 2.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?;
+/// let grazing = Pair { other: aside.into(), ..pair };
+/// assert!(!wrong_outside_band(stable, &Case::open(grazing), &Exact::of(&grazing), None));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn wrong_outside_band(path: Path, case: &Case, exact: &Exact, kappa: Option<f64>) -> bool {
     let d = exact.contact_distance().abs();
     if exact.grazing_margin() <= band(path, &case.pair, d) {
@@ -178,6 +259,14 @@ pub fn wrong_outside_band(path: Path, case: &Case, exact: &Exact, kappa: Option<
 }
 
 /// Measures every path on `n` cases of `family` at difficulty `level`, each on its own window.
+///
+/// ```
+/// use spheresweep_study::{Family, Path, measure_family};
+/// let result = measure_family(Family::ContainerWall, 2, 40, 7);
+/// let parry = result.paths.iter().find(|r| r.path == Path::Parry).unwrap();
+/// assert_eq!(parry.cases, 0); // parry3d has no container
+/// assert!(result.paths.iter().filter(|r| r.path != Path::Parry).all(|r| r.cases == 40));
+/// ```
 pub fn measure_family(family: Family, level: u32, n: usize, seed: u64) -> FamilyResult {
     let mut rng = Rng::new(seed ^ (family as u64) << 32 ^ u64::from(level));
     let cases: Vec<Case> = (0..n).map(|_| family.case(&mut rng, level)).collect();
@@ -281,6 +370,13 @@ fn score(
 /// Pairs per second of every path on `n` baseline sphere pairs held in cache, one thread:
 /// each timing evaluates the batch `inner` times (parry3d, `inner / 16` times, through
 /// `query::cast_shapes` on shapes built beforehand); the best of `repeats` timings counts.
+///
+/// ```
+/// use spheresweep_study::{Path, throughput};
+/// let rates = throughput(64, 2, 1, 7);
+/// assert_eq!(rates.iter().map(|(p, _)| *p).collect::<Vec<_>>(), Path::ALL);
+/// assert!(rates.iter().all(|(_, r)| *r > 0.0));
+/// ```
 pub fn throughput(n: usize, inner: usize, repeats: usize, seed: u64) -> Vec<(Path, f64)> {
     let mut rng = Rng::new(seed);
     let pairs: Vec<Pair> = (0..n)
