@@ -15,6 +15,20 @@ use spheresweep::Side;
 use spheresweep::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
 
 /// The exact quadratic `dist² − D² = A t² + 2b t + C` of one pair, and `q = b² − AC`.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep_study::Exact;
+/// let exact = Exact::of(&pair);
+/// assert_eq!(exact.time(f64::INFINITY), Some(4.0));
+/// assert_eq!(exact.contact_distance(), 2.0);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Exact {
     a: RBig,
@@ -51,6 +65,21 @@ fn to_f64(x: &RBig) -> f64 {
 /// container's centre and radius. The oracle reads a pair only through them, so that one
 /// input can be moved by an ulp without going through a constructor (which would normalise a
 /// normal or an axis again): [`super::condition`](mod@super::condition).
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::ShapeKind;
+/// use spheresweep_study::Inputs;
+/// let inputs = Inputs::of(&pair);
+/// assert_eq!((inputs.kind(), inputs.len()), (ShapeKind::Sphere, 14));
+/// assert_eq!(inputs.values()[7], 10.0); // B's centre x, after A's 7 inputs
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inputs {
     kind: ShapeKind,
@@ -59,6 +88,18 @@ pub struct Inputs {
 
 impl Inputs {
     /// The inputs of `pair`.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::Inputs;
+    /// assert_eq!(&Inputs::of(&pair).values()[..7], &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn of(pair: &Pair) -> Self {
         let s = &pair.sphere;
         let mut values = [0.0f32; 14];
@@ -83,11 +124,34 @@ impl Inputs {
     }
 
     /// The kind of the other body.
+    ///
+    /// ```
+    /// use spheresweep::{Plane, ShapeKind, Sphere, reference::Pair};
+    /// use spheresweep_study::Inputs;
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0, 0.0, 3.0], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Plane::new([0.0; 3], [0.0, 0.0, 1.0])?.into(),
+    /// };
+    /// assert_eq!(Inputs::of(&pair).kind(), ShapeKind::Plane);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn kind(&self) -> ShapeKind {
         self.kind
     }
 
     /// How many inputs the pair has: 14 (sphere, cylinder), 13 (plane), 11 (container).
+    ///
+    /// ```
+    /// use spheresweep::{Container, Sphere, reference::Pair};
+    /// use spheresweep_study::Inputs;
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    ///     other: Container::new([0.0; 3], 5.0)?.into(),
+    /// };
+    /// // 7 for the sphere, then the vessel's centre and radius.
+    /// assert_eq!(Inputs::of(&pair).len(), 11);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn len(&self) -> usize {
         match self.kind {
             ShapeKind::Sphere | ShapeKind::Cylinder => 14,
@@ -97,16 +161,52 @@ impl Inputs {
     }
 
     /// Never: every pair has inputs (for clippy's `len_without_is_empty`).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert!(!spheresweep_study::Inputs::of(&pair).is_empty());
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn is_empty(&self) -> bool {
         false
     }
 
     /// The inputs in order.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// let inputs = spheresweep_study::Inputs::of(&pair);
+    /// assert_eq!(&inputs.values()[10..], &[-2.0, 0.0, 0.0, 1.0]); // B's velocity and radius
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn values(&self) -> &[f32] {
         &self.values[..self.len()]
     }
 
     /// Whether input `i` is a radius (which must stay at or above zero).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// let inputs = spheresweep_study::Inputs::of(&pair);
+    /// let radii: Vec<usize> = (0..inputs.len()).filter(|&i| inputs.is_radius(i)).collect();
+    /// assert_eq!(radii, [6, 13]);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn is_radius(&self, i: usize) -> bool {
         i == 6
             || (i == 13 && self.kind != ShapeKind::Plane)
@@ -118,6 +218,20 @@ impl Inputs {
     ///
     /// # Panics
     /// If `i` is not below [`Self::len`].
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::{Exact, Inputs};
+    /// // B starts at x = 12: contact at (12 − 2)/2.
+    /// let farther = Inputs::of(&pair).with(7, 12.0);
+    /// assert_eq!(Exact::from_inputs(&farther).time(f64::INFINITY), Some(5.0));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     #[must_use]
     pub fn with(mut self, i: usize, x: f32) -> Self {
         assert!(i < self.len(), "input {i} of {}", self.len());
@@ -128,6 +242,19 @@ impl Inputs {
     /// The pair these inputs describe, through the validating constructors (which normalise
     /// a normal or an axis again); `None` if a constructor rejects a value (an infinity, a
     /// negative radius, a zero normal or axis).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// let inputs = spheresweep_study::Inputs::of(&pair);
+    /// assert_eq!(inputs.pair(), Some(pair));
+    /// assert_eq!(inputs.with(6, -1.0).pair(), None); // a negative radius
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn pair(&self) -> Option<Pair> {
         let v = &self.values;
         let at = |i: usize| [v[i], v[i + 1], v[i + 2]];
@@ -152,11 +279,35 @@ impl Inputs {
 
 impl Exact {
     /// The exact coefficients of `pair`.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(spheresweep_study::Exact::of(&pair).time(3.0), None); // the window ends first
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn of(pair: &Pair) -> Self {
         Self::from_inputs(&Inputs::of(pair))
     }
 
     /// The exact coefficients of the pair made of `inputs`.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::{Exact, Inputs};
+    /// let exact = Exact::from_inputs(&Inputs::of(&pair));
+    /// assert_eq!(exact.time(f64::INFINITY), Exact::of(&pair).time(f64::INFINITY));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn from_inputs(inputs: &Inputs) -> Self {
         let (c, v, r) = (inputs.vector(0), inputs.vector(3), exact(inputs.values[6]));
         let (a, b, cc, d, side) = match inputs.kind {
@@ -223,6 +374,19 @@ impl Exact {
     /// wall (`C ≥ 0`) and moving outwards (`b > 0`) or tangentially (`b = 0`, `A > 0`): touching
     /// the wall and sliding along it, and an exact fit (`D = 0`) that moves at all, are contacts
     /// at 0 (the container policy of the compensated kernels).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::Exact;
+    /// assert_eq!(Exact::of(&pair).time(10.0), Some(4.0));
+    /// assert_eq!(Exact::of(&pair).time(4.0), Some(4.0)); // the window is closed
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn time(&self, t_max: f64) -> Option<f64> {
         let zero = RBig::ZERO;
         let Exact {
@@ -291,6 +455,19 @@ impl Exact {
     /// `dist(t) − D` at the time `t` (an f32 or f64 value, taken exactly): how far from
     /// touching the bodies are at a reported time (positive: apart for an exterior pair,
     /// negative: inside the wall for a container).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// let exact = spheresweep_study::Exact::of(&pair);
+    /// assert_eq!(exact.gap(2.0), 4.0); // centres 6 apart, D = 2
+    /// assert_eq!(exact.gap(4.0), 0.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn gap(&self, t: f64) -> f64 {
         let t = exact64(t);
         let f = &self.a * &t * &t + RBig::from(2) * &self.b * &t + &self.c;
@@ -306,6 +483,18 @@ impl Exact {
 
     /// `|D − d_min|`, how far the closest approach is from grazing (`d_min² = D² − q/A`);
     /// `+∞` without relative motion.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// // Head-on: the closest approach is 0, two units inside the contact distance.
+    /// assert_eq!(spheresweep_study::Exact::of(&pair).grazing_margin(), 2.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn grazing_margin(&self) -> f64 {
         if self.a == RBig::ZERO {
             return f64::INFINITY;
@@ -317,11 +506,39 @@ impl Exact {
     }
 
     /// The contact distance `D`.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(spheresweep_study::Exact::of(&pair).contact_distance(), 1.0 + 1.0);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn contact_distance(&self) -> f64 {
         to_f64(&self.d)
     }
 
     /// Whether the pair grazes exactly (`q = b² − AC = 0`).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::Exact;
+    /// assert!(!Exact::of(&pair).is_exactly_grazing());
+    /// // Aimed 2 = D off-centre: the spheres just touch, at t = 5.
+    /// let aside = Sphere::new([10.0, 2.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?;
+    /// let grazing = Pair { other: aside.into(), ..pair };
+    /// assert!(Exact::of(&grazing).is_exactly_grazing());
+    /// assert_eq!(Exact::of(&grazing).time(f64::INFINITY), Some(5.0));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn is_exactly_grazing(&self) -> bool {
         self.q == RBig::ZERO
     }
