@@ -11,11 +11,39 @@ pub use spheresweep::reference::Pair;
 use spheresweep::{Accuracy, QueryOptions, Shape};
 
 /// The paths beside the reference that answer a [`Pair`]: the 8-wide kernels and parry3d.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::Paths;
+/// assert_eq!(pair.kernel(Accuracy::Stable, f32::INFINITY), Some(4.0));
+/// let parry = pair.parry(100.0).unwrap().unwrap(); // parry's GJK cast: close, not exact
+/// assert!((parry - 4.0).abs() < 1e-3);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub trait Paths {
     /// The 8-wide kernel's time of impact in `mode`, through the public single-pair entry.
     ///
     /// # Panics
     /// If `t_max` is NaN or negative.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep::Accuracy;
+    /// use spheresweep_study::Paths;
+    /// assert_eq!(pair.kernel(Accuracy::Double, 3.0), None); // the contact at 4 is outside [0, 3]
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     fn kernel(&self, mode: Accuracy, t_max: f32) -> Option<f32>;
 
     /// parry3d's time of impact (`query::cast_shapes`, stopping at penetration), or `None`
@@ -24,6 +52,17 @@ pub trait Paths {
     /// sphere, just long enough to cover the travel to the contact (its best case: parry's
     /// errors grow with the cylinder's length, docs/accuracy.md). The half-space faces the side
     /// of the plane the sphere starts on (ours is two-sided, parry's solid below its plane).
+    ///
+    /// ```
+    /// use spheresweep::{Container, Sphere, reference::Pair};
+    /// use spheresweep_study::Paths;
+    /// let inside = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    ///     other: Container::new([0.0; 3], 5.0)?.into(),
+    /// };
+    /// assert_eq!(inside.parry(10.0), None); // parry has no container
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     fn parry(&self, t_max: f32) -> Option<Option<f32>>;
 }
 
@@ -88,6 +127,21 @@ impl Paths for Pair {
 /// One case of a family: a pair and the window `[0, t_max]` it is asked about (`+∞` for the
 /// families that leave the window open; the window-edge families end it within a few ulps of
 /// the contact). The oracle decides hit or miss against the same window (`Exact::time`).
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::Case;
+/// let case = Case { pair, t_max: 3.0 };
+/// assert_eq!(case.kernel(Accuracy::Double), None); // the contact at 4 is outside [0, 3]
+/// assert_eq!(Case::open(pair).kernel(Accuracy::Double), Some(4.0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Case {
     /// The pair.
@@ -98,6 +152,17 @@ pub struct Case {
 
 impl Case {
     /// A pair with the window `[0, ∞)`.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// assert_eq!(spheresweep_study::Case::open(pair).t_max, f32::INFINITY);
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn open(pair: Pair) -> Self {
         Self {
             pair,
@@ -106,11 +171,37 @@ impl Case {
     }
 
     /// The kernel's answer in `mode` on this case's window.
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep::Accuracy;
+    /// let case = spheresweep_study::Case { pair, t_max: 4.0 };
+    /// assert_eq!(case.kernel(Accuracy::Textbook), Some(4.0));
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn kernel(&self, mode: Accuracy) -> Option<f32> {
         self.pair.kernel(mode, self.t_max)
     }
 
     /// parry3d's answer on this case's window (an open window is parry's `f32::MAX`).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, reference::Pair};
+    /// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+    /// let pair = Pair {
+    ///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+    ///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+    /// };
+    /// use spheresweep_study::Case;
+    /// assert_eq!(Case { pair, t_max: 3.0 }.parry(), Some(None)); // answered: no contact in [0, 3]
+    /// assert!(Case::open(pair).parry().unwrap().is_some());
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
     pub fn parry(&self) -> Option<Option<f32>> {
         self.pair.parry(self.t_max.min(f32::MAX))
     }
@@ -120,11 +211,38 @@ impl Case {
 ///
 /// # Panics
 /// If `t_max` is NaN or negative.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::kernel_times;
+/// assert_eq!(kernel_times(&[pair, pair], Accuracy::Stable, 10.0), [Some(4.0), Some(4.0)]);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn kernel_times(pairs: &[Pair], mode: Accuracy, t_max: f32) -> Vec<Option<f32>> {
     pairs.iter().map(|p| p.kernel(mode, t_max)).collect()
 }
 
 /// The kernels' answers for many cases in `mode`, each on its own window.
+///
+/// ```
+/// # use spheresweep::{Sphere, reference::Pair};
+/// // B 10 ahead of A and closing at speed 2, contact distance 2: contact at t = 4.
+/// let pair = Pair {
+///     sphere: Sphere::new([0.0; 3], [0.0; 3], 1.0, 1.0)?,
+///     other: Sphere::new([10.0, 0.0, 0.0], [-2.0, 0.0, 0.0], 1.0, 1.0)?.into(),
+/// };
+/// use spheresweep::Accuracy;
+/// use spheresweep_study::{Case, case_times};
+/// let cases = [Case::open(pair), Case { pair, t_max: 1.0 }];
+/// assert_eq!(case_times(&cases, Accuracy::Stable), [Some(4.0), None]);
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
 pub fn case_times(cases: &[Case], mode: Accuracy) -> Vec<Option<f32>> {
     cases.iter().map(|c| c.kernel(mode)).collect()
 }
