@@ -7,6 +7,21 @@ use plotters::prelude::*;
 use super::measure::{CONDITION_CASES, FamilyResult, Path, PathResult};
 
 /// Everything one run of the study measured.
+///
+/// ```
+/// # use spheresweep::Accuracy;
+/// # use spheresweep_study::{Family, Path, Report, measure_family};
+/// let report = Report {
+///     families: vec![measure_family(Family::Baseline, 0, 50, 1)],
+///     sweeps: Vec::new(),
+///     throughput: Path::ALL.iter().map(|&p| (p, 1e6)).collect(),
+///     cases: 50,
+///     seed: 1,
+///     machine: "a test machine".into(),
+///     date: "2026-01-01".into(),
+/// };
+/// assert!(report.markdown("accuracy.svg").contains("a test machine"));
+/// ```
 #[derive(Debug, Clone)]
 pub struct Report {
     /// Per family, every path.
@@ -34,6 +49,24 @@ impl Report {
     }
 
     /// The worst p99 geometric error of `path` over all families (coordinate-rounding units).
+    ///
+    /// ```
+    /// # use spheresweep::Accuracy;
+    /// # use spheresweep_study::{Family, Path, Report, measure_family};
+    /// let report = Report {
+    ///     families: vec![measure_family(Family::Baseline, 0, 50, 1)],
+    ///     sweeps: Vec::new(),
+    ///     throughput: Path::ALL.iter().map(|&p| (p, 1e6)).collect(),
+    ///     cases: 50,
+    ///     seed: 1,
+    ///     machine: "a test machine".into(),
+    ///     date: "2026-01-01".into(),
+    /// };
+    /// let worst = report.worst_gap(Path::Mode(Accuracy::Stable));
+    /// // The only family; Stable is its second path.
+    /// let baseline = report.families[0].paths[1].gap_coord.p99;
+    /// assert_eq!(worst, baseline);
+    /// ```
     pub fn worst_gap(&self, path: Path) -> f64 {
         self.results(path)
             .map(|r| r.gap_coord.p99)
@@ -47,6 +80,23 @@ impl Report {
     }
 
     /// The Markdown report.
+    ///
+    /// ```
+    /// # use spheresweep::Accuracy;
+    /// # use spheresweep_study::{Family, Path, Report, measure_family};
+    /// let report = Report {
+    ///     families: vec![measure_family(Family::Baseline, 0, 50, 1)],
+    ///     sweeps: Vec::new(),
+    ///     throughput: Path::ALL.iter().map(|&p| (p, 1e6)).collect(),
+    ///     cases: 50,
+    ///     seed: 1,
+    ///     machine: "a test machine".into(),
+    ///     date: "2026-01-01".into(),
+    /// };
+    /// let md = report.markdown("plot.svg");
+    /// assert!(md.starts_with("# What accuracy costs"));
+    /// assert!(md.contains("plot.svg") && md.contains("baseline"));
+    /// ```
     pub fn markdown(&self, svg_name: &str) -> String {
         let mut md = String::new();
         let w = &mut md;
@@ -236,6 +286,23 @@ impl Report {
     ///
     /// # Errors
     /// If plotters cannot draw (it writes to a string, so only on a drawing bug).
+    ///
+    /// ```
+    /// # use spheresweep::Accuracy;
+    /// # use spheresweep_study::{Family, Path, Report, measure_family};
+    /// let report = Report {
+    ///     families: vec![measure_family(Family::Baseline, 0, 50, 1)],
+    ///     sweeps: Vec::new(),
+    ///     throughput: Path::ALL.iter().map(|&p| (p, 1e6)).collect(),
+    ///     cases: 50,
+    ///     seed: 1,
+    ///     machine: "a test machine".into(),
+    ///     date: "2026-01-01".into(),
+    /// };
+    /// let svg = report.svg()?;
+    /// assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn svg(&self) -> Result<String, Box<dyn std::error::Error>> {
         let mut svg = String::new();
         {
