@@ -180,9 +180,9 @@ def _float_columns(frame, columns: Sequence[str]) -> list:
 def _answer_and_write(frame, apply, args, source, directory, partition_info=None):
     """One task: answers one partition with ``apply`` and writes it as one Parquet file.
 
-    Returns a one-row frame of the rows and the rows with a contact. Reading, answering and
-    writing are one task (no partition crosses the network); an invalid value is a ValueError
-    naming the partition and the row within it.
+    Returns a one-row frame of the rows and the rows with a contact, so that only counts come
+    back to the client; an invalid value is a ValueError naming the partition and the row
+    within it.
     """
     import pandas as pd
     import pyarrow as pa
