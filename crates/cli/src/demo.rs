@@ -153,6 +153,8 @@ const GLUE_PATH: Rgb = Rgb::hex(0x7a0010);
 
 /// The simulation demo: run, summary, pictures.
 fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
+    // Ctrl-C and SIGTERM from here on stop the simulation at its next poll.
+    crate::interrupt::install()?;
     // The outputs are checked before any work.
     let dir = args
         .out
@@ -212,7 +214,20 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     let started = Instant::now();
     for k in 1..=SAMPLES {
         let stop = t_end * k as f64 / SAMPLES as f64;
-        sim.advance_with(stop, &mut |t, s| bar.show(t, s))?;
+        let finished = sim.advance_with(stop, &mut |t, s| {
+            bar.show(t, s) && !crate::interrupt::requested()
+        })?;
+        if !finished {
+            bar.finish();
+            let s = sim.stats();
+            return Err(crate::interrupt::Interrupted(format!(
+                "at t = {:.1} of {t_end} after {} collisions; no picture written (earlier ones \
+                 kept)",
+                sim.time(),
+                s.pair_collisions + s.wall_collisions
+            ))
+            .into());
+        }
         bar.show(sim.time(), sim.stats());
         let now = sim.spheres();
         for (path, &i) in paths.iter_mut().zip(&tracked) {

@@ -3,6 +3,8 @@
 mod accuracy;
 mod bench;
 mod demo;
+mod interrupt;
+mod memory;
 mod output;
 mod picture;
 mod progress;
@@ -57,6 +59,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<interrupt::Interrupted>() => {
+            eprintln!("{e}");
+            ExitCode::from(interrupt::EXIT_CODE)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE

@@ -369,6 +369,23 @@ fn shapes_text(s: &Shapes) -> String {
     )
 }
 
+/// Bytes one row of a chunk holds at most, from the types that hold it: its input columns
+/// (f32) and CSV line number, the text of a CSV row (up to 32 bytes a number), two spheres in
+/// stores (eight f32 lanes each), a first-contact record, and the results (time, kind, index,
+/// six geometry values).
+fn row_bytes(input_columns: usize) -> u64 {
+    use std::mem::size_of;
+    let bytes = input_columns * (size_of::<f32>() + 32)
+        + size_of::<u64>()
+        + 2 * 8 * size_of::<f32>()
+        + size_of::<Option<spheresweep::FirstContact>>()
+        + size_of::<f32>()
+        + size_of::<u8>()
+        + size_of::<i64>()
+        + 6 * size_of::<f64>();
+    bytes as u64
+}
+
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     // Everything that can be refused is refused before any output exists.
     let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(args.geometry);
@@ -385,6 +402,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     } else {
         Layout::Pairs
     };
+    crate::memory::check(
+        &format!("--chunk-rows {}", args.chunk_rows),
+        (args.chunk_rows as u64).saturating_mul(row_bytes(layout.columns().len())),
+    )?;
     let input = Input::detect(&args.input)?;
     let (out_path, output) = match &args.out {
         Some(p) => (p.clone(), Output::from_path(p)?),
@@ -405,7 +426,15 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let mut chunk = Chunk::new(layout.columns().len());
     let mut results = Results::default();
     let label = input.label();
+    crate::interrupt::install()?;
     loop {
+        if crate::interrupt::requested() {
+            return Err(crate::interrupt::Interrupted(format!(
+                "after {chunks} chunks ({rows} rows) of {label}; nothing written, {} untouched",
+                out_path.display()
+            ))
+            .into());
+        }
         let t = Instant::now();
         let more = source.next(args.chunk_rows, &mut chunk)?;
         reading += t.elapsed();

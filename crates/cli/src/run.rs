@@ -16,7 +16,7 @@ use glam::DVec3;
 use serde_json::json;
 use spheresweep::io::scene_file::SceneFile;
 use spheresweep::io::xyz;
-use spheresweep::sim::{Boundary, EventRecord, Response, Simulation};
+use spheresweep::sim::{Boundary, EventRecord, Response, Simulation, SphereState};
 
 /// Options of `spheresweep run`.
 #[derive(Debug, clap::Args)]
@@ -262,6 +262,8 @@ fn relative(change: f64, scale: f64) -> f64 {
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    // Ctrl-C and SIGTERM from here on stop the simulation at its next poll.
+    crate::interrupt::install()?;
     // Everything that can be refused is refused before any output exists.
     if let Some(t) = args.t_end
         && !(t.is_finite() && t > 0.0)
@@ -287,6 +289,16 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         None => None,
     };
     let scene = SceneFile::from_path(&args.scene)?;
+    // Too large for memory: refused before a sphere is generated. The world (one
+    // `SphereState` a sphere) is held while the simulation is built from it.
+    if let Some(n) = scene.sphere_count() {
+        let bytes = Simulation::estimated_bytes(n)
+            .saturating_add(n.saturating_mul(std::mem::size_of::<SphereState>()));
+        crate::memory::check(
+            &format!("{}: a simulation of {n} spheres", args.scene.display()),
+            bytes as u64,
+        )?;
+    }
     let (world, mut settings) = scene.build()?;
     if let Some(t) = args.t_end {
         settings.t_end = t;
@@ -429,13 +441,57 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .skip(first)
     {
         let start = Instant::now();
-        sim.advance_with(stop, &mut |t, s| bar.show(t, s))?;
+        let finished = sim.advance_with(stop, &mut |t, s| {
+            bar.show(t, s) && !crate::interrupt::requested()
+        })?;
         simulated += start.elapsed();
         bar.show(sim.time(), sim.stats());
         if let Some(f) = events.as_mut() {
             let batch = sim.take_events();
             logged += batch.len() as u64;
             write_events(f.writer(), &batch, geometry).map_err(|e| f.fail(e))?;
+        }
+        if !finished {
+            // Ctrl-C or SIGTERM: stopped between two events. A last checkpoint (if they are
+            // on) continues with this same stop; the staged outputs are dropped (removed).
+            bar.finish();
+            let stats = *sim.stats();
+            let done = format!(
+                "at t = {} of {t_end} after {} collisions",
+                sim.time(),
+                stats.pair_collisions + stats.wall_collisions
+            );
+            if args.checkpoint_every.is_none() {
+                return Err(crate::interrupt::Interrupted(format!(
+                    "{done}; nothing written, earlier files in {} kept (with \
+                     --checkpoint-every T an interrupted run can be resumed)",
+                    dir.display()
+                ))
+                .into());
+            }
+            let c = RunCheckpoint {
+                next_stop: k as u64,
+                frames: frames as u64,
+                logged,
+                ke0,
+                p0,
+                momentum_scale,
+                simulated: simulated.as_secs_f64(),
+                trajectory: trajectory
+                    .as_mut()
+                    .map_or(Ok(Vec::new()), Staged::contents)?,
+                events: events.as_mut().map_or(Ok(Vec::new()), Staged::contents)?,
+                sim: sim.checkpoint(),
+            };
+            crate::output::write_atomic(&checkpoint_path, &c.to_bytes())?;
+            return Err(crate::interrupt::Interrupted(format!(
+                "{done}; wrote {} ({frames} frames and {logged} events so far); resume with \
+                 `spheresweep run {} --resume {}` and the same options",
+                checkpoint_path.display(),
+                args.scene.display(),
+                checkpoint_path.display()
+            ))
+            .into());
         }
         if snapshot && let Some(t) = trajectory.as_mut() {
             xyz::write_frame(t.writer(), &sim.spheres(), sim.time(), periodic_box)

@@ -1,0 +1,219 @@
+//! Ctrl-C and SIGTERM: `run` stops between two events, writes a last checkpoint (when
+//! checkpoints are on), removes its temporary files, leaves earlier files untouched, says what
+//! was done and exits with 130; resumed from that checkpoint it ends byte for byte as a run
+//! never interrupted. `demo` and `query` stop the same way.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::Duration;
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_spheresweep")
+}
+
+fn scene() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/hard_sphere_gas.toml")
+}
+
+fn run(out: &Path, extra: &[&str]) -> Child {
+    Command::new(bin())
+        .arg("run")
+        .arg(scene())
+        .args(["--t-end", "40", "--snapshots", "4", "--quiet", "--out"])
+        .arg(out)
+        .args(extra)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs")
+}
+
+fn signal(child: &Child, name: &str) {
+    let ok = Command::new("kill")
+        .args([format!("-{name}"), child.id().to_string()])
+        .status()
+        .expect("kill runs")
+        .success();
+    assert!(ok, "kill -{name} failed");
+}
+
+/// Waits until `path` exists (the run is under way), then sends the signal.
+fn interrupt_once(child: &mut Child, path: &Path, name: &str) -> Output {
+    while !path.exists() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before {} appeared",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    signal(child, name);
+    let mut out = Output {
+        status: child.wait().unwrap(),
+        stdout: Vec::new(),
+        stderr: Vec::new(),
+    };
+    use std::io::Read;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_end(&mut out.stderr)
+        .unwrap();
+    out
+}
+
+fn temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+fn fresh_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
+    let dir = fresh_dir("sigterm");
+    let (full, cut) = (dir.join("full"), dir.join("cut"));
+    let out = run(&full, &[]).wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    // An earlier run's files in the output directory must survive the interruption.
+    std::fs::create_dir_all(&cut).unwrap();
+    for name in ["trajectory.xyz", "summary.json"] {
+        std::fs::write(cut.join(name), b"an earlier run").unwrap();
+    }
+    let mut child = run(&cut, &["--checkpoint-every", "2"]);
+    let stopped = interrupt_once(&mut child, &cut.join("checkpoint.bin"), "TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted at t = ")
+            && err.contains("collisions")
+            && err.contains("checkpoint.bin")
+            && err.contains("--resume"),
+        "{err}"
+    );
+    for name in ["trajectory.xyz", "summary.json"] {
+        assert_eq!(
+            std::fs::read(cut.join(name)).unwrap(),
+            b"an earlier run",
+            "{name}"
+        );
+    }
+    assert!(
+        temporary_files(&cut).is_empty(),
+        "{:?}",
+        temporary_files(&cut)
+    );
+
+    let ckpt = cut.join("checkpoint.bin");
+    let resumed = run(
+        &cut,
+        &[
+            "--checkpoint-every",
+            "2",
+            "--resume",
+            ckpt.to_str().unwrap(),
+        ],
+    )
+    .wait_with_output()
+    .unwrap();
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let read = |p: PathBuf| std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert!(
+        read(full.join("trajectory.xyz")) == read(cut.join("trajectory.xyz")),
+        "the trajectory of the interrupted and resumed run differs ({err})"
+    );
+    let physics = |p: PathBuf| {
+        String::from_utf8(read(p))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.contains("wall_seconds") && !l.contains("per_second"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(
+        physics(full.join("summary.json")),
+        physics(cut.join("summary.json"))
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
+    let dir = fresh_dir("sigint");
+    std::fs::write(dir.join("summary.json"), b"an earlier run").unwrap();
+    // The run has started simulating once its staged trajectory exists.
+    let mut child = run(&dir, &[]);
+    let tmp = |dir: &Path| !temporary_files(dir).is_empty();
+    while !tmp(&dir) {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended first");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(100));
+    let stopped = interrupt_once(&mut child, &dir, "INT");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted at t = ") && err.contains("nothing written"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(dir.join("summary.json")).unwrap(),
+        b"an earlier run"
+    );
+    assert!(!dir.join("trajectory.xyz").exists() && !dir.join("checkpoint.bin").exists());
+    assert!(
+        temporary_files(&dir).is_empty(),
+        "{:?}",
+        temporary_files(&dir)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sigterm_stops_demo_without_writing_a_picture() {
+    let dir = fresh_dir("demo-term");
+    let mut child = Command::new(bin())
+        .args(["demo", "--quiet", "--out"])
+        .arg(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The demo prints its scene before it simulates.
+    let mut stdout = child.stdout.take().unwrap();
+    let mut first = [0u8; 1];
+    use std::io::Read;
+    stdout.read_exact(&mut first).unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let stopped = interrupt_once(&mut child, &dir, "TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted at t = ") && err.contains("no picture"),
+        "{err}"
+    );
+    assert!(
+        std::fs::read_dir(&dir).unwrap().next().is_none(),
+        "the demo wrote a file"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
