@@ -112,7 +112,7 @@ pub(crate) fn floats<'py, T: Element>(
     } else {
         array.call_method1("astype", (target,))?
     };
-    Ok(typed.extract::<PyReadonlyArrayDyn<'py, T>>()?)
+    typed.extract::<PyReadonlyArrayDyn<'py, T>>()
 }
 
 /// A 3-vector argument (an array or a sequence of three numbers) in `T`.

@@ -161,8 +161,7 @@ impl Simulation {
                 )));
             }
         }
-        let mut world = World::default();
-        world.spheres = (0..n)
+        let spheres = (0..n)
             .map(|i| SphereState {
                 centre: DVec3::from_array(row3(&c, i)),
                 velocity: DVec3::from_array(row3(&v, i)),
@@ -171,6 +170,10 @@ impl Simulation {
                 material: 0,
             })
             .collect();
+        let mut world = World {
+            spheres,
+            ..World::default()
+        };
         for (items, name) in [
             (planes, "planes"),
             (cylinders, "cylinders"),

@@ -335,3 +335,53 @@ def test_bad_shapes():
 def test_constants():
     assert ss.ACCURACIES == ("textbook", "stable", "double")
     assert (ss.KIND_NONE, ss.KIND_SPHERE, ss.KIND_PLANE, ss.KIND_CYLINDER, ss.KIND_CONTAINER) == (0, 1, 2, 3, 4)
+
+
+# ---------------------------------------------------------------- the Rust binary's bits
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+def rust_cli():
+    """The `spheresweep` binary, built from this checkout (a no-op when `cargo test` or an
+    earlier run built it): its `query` answers pairs with the library's `zip_times`."""
+    import os
+    import subprocess
+
+    if os.environ.get("SPHERESWEEP_CLI"):
+        return os.environ["SPHERESWEEP_CLI"]
+    subprocess.run(["cargo", "build", "--quiet", "-p", "spheresweep-cli"], cwd=ROOT, check=True)
+    target = os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target"))
+    return str(__import__("pathlib").Path(target) / "debug" / "spheresweep")
+
+
+@pytest.mark.parametrize("accuracy", ["textbook", "stable", "double"])
+def test_same_bits_as_the_rust_binary(tmp_path, accuracy):
+    # The same float64 pairs through the Rust program (`spheresweep query`, which rounds f8
+    # to f32 and calls batch::zip_times) and through Python (which rounds with numpy and
+    # calls the same function): the float32 times must match bit for bit, including near
+    # misses, grazing pairs and pairs that start in contact.
+    import subprocess
+
+    rng = np.random.default_rng(17)
+    n = 20_000
+    a = rng.uniform(-5, 5, (n, 3))
+    b = a + rng.normal(0, 2, (n, 3))
+    va, vb = rng.normal(0, 1, (n, 3)), rng.normal(0, 1, (n, 3))
+    ra, rb = rng.uniform(0.05, 1.0, n), rng.uniform(0.05, 1.0, n)
+    # Grazing: B moves along a tangent line of A's contact sphere.
+    g = slice(0, 500)
+    b[g] = a[g] + np.array([-10.0, 0, 0]) + np.c_[np.zeros(500), ra[g] + rb[g], np.zeros(500)]
+    va[g], vb[g] = 0.0, np.array([1.0, 0, 0])
+    pairs = np.column_stack([a, va, ra, b, vb, rb])  # (N, 14), float64
+    path = tmp_path / "pairs.npy"
+    np.save(path, pairs)
+    subprocess.run([rust_cli(), "query", str(path), "--accuracy", accuracy, "--t-max", "30"],
+                   check=True, capture_output=True)
+    rust = np.load(tmp_path / "pairs-toi" / "time.npy")
+    sa = ss.Spheres(a, va, ra)
+    sb = ss.Spheres(b, vb, rb)
+    ours = ss.zip_times(sa, sb, t_max=30.0, accuracy=accuracy)
+    assert rust.dtype == np.float32 and rust.shape == (n,)
+    assert np.isfinite(ours).sum() > n // 20  # about 8 % of the pairs meet
+    assert (bits(rust) == bits(ours)).all(), np.flatnonzero(bits(rust) != bits(ours))[:10]

@@ -1,0 +1,264 @@
+"""Type stubs of spheresweep (the extension module spheresweep._native, re-exported)."""
+
+import os
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ACCURACIES: Tuple[str, str, str]
+"""The accuracy modes, cheapest first: ("textbook", "stable", "double")."""
+
+KIND_NONE: int
+"""Kind code of "no contact" (0)."""
+KIND_SPHERE: int
+"""Kind code of a sphere (1)."""
+KIND_PLANE: int
+"""Kind code of a plane (2)."""
+KIND_CYLINDER: int
+"""Kind code of a cylinder (3)."""
+KIND_CONTAINER: int
+"""Kind code of a container (4)."""
+
+Accuracy = Literal["textbook", "stable", "double"]
+ArrayLike = npt.ArrayLike
+Vector3 = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
+F32 = npt.NDArray[np.float32]
+F64 = npt.NDArray[np.float64]
+
+class Spheres:
+    """Moving spheres in float32, validated once and kept in the library's column store.
+
+    ``centres`` and ``velocities`` are ``(N, 3)``, ``radii`` and ``masses`` ``(N,)`` (every
+    mass 1 without it). float32 arrays are read in place at any strides; float64 (or any other
+    floating dtype) is converted to float32 once, rounding to nearest; lists go through
+    ``numpy.asarray(x, dtype=float32)``. ``TypeError`` for a non-floating dtype, ``ValueError``
+    for a wrong shape, mismatched lengths or an invalid sphere (named by index and field).
+    """
+
+    def __init__(
+        self,
+        centres: ArrayLike,
+        velocities: ArrayLike,
+        radii: ArrayLike,
+        masses: Optional[ArrayLike] = None,
+    ) -> None: ...
+    @staticmethod
+    def from_columns(
+        x: ArrayLike,
+        y: ArrayLike,
+        z: ArrayLike,
+        vx: ArrayLike,
+        vy: ArrayLike,
+        vz: ArrayLike,
+        r: ArrayLike,
+        m: Optional[ArrayLike] = None,
+    ) -> "Spheres":
+        """Spheres from separate ``(N,)`` columns (the layout of Parquet and Arrow tables)."""
+    def __len__(self) -> int: ...
+    @property
+    def centres(self) -> F32:
+        """Centres at t = 0: a new float32 ``(N, 3)`` array."""
+    @property
+    def velocities(self) -> F32:
+        """Velocities: a new float32 ``(N, 3)`` array."""
+    @property
+    def radii(self) -> F32:
+        """Radii: a new float32 ``(N,)`` array."""
+    @property
+    def masses(self) -> F32:
+        """Masses: a new float32 ``(N,)`` array."""
+
+class Plane:
+    """A static infinite plane through ``point`` with normal ``normal`` (any non-zero length)."""
+
+    def __init__(self, point: Vector3, normal: Vector3) -> None: ...
+    @property
+    def point(self) -> Tuple[float, float, float]: ...
+    @property
+    def normal(self) -> Tuple[float, float, float]: ...
+
+class Cylinder:
+    """A static infinite cylinder of ``radius`` around the line through ``p1`` and ``p2``."""
+
+    def __init__(self, p1: Vector3, p2: Vector3, radius: float) -> None: ...
+    @property
+    def p1(self) -> Tuple[float, float, float]: ...
+    @property
+    def p2(self) -> Tuple[float, float, float]: ...
+    @property
+    def radius(self) -> float: ...
+
+class Container:
+    """The inside of the sphere of ``radius`` around ``centre``; spheres move inside it."""
+
+    def __init__(self, centre: Vector3, radius: float) -> None: ...
+    @property
+    def centre(self) -> Tuple[float, float, float]: ...
+    @property
+    def radius(self) -> float: ...
+
+Shape = Union[Plane, Cylinder, Container]
+
+def zip_times(
+    a: Spheres,
+    b: Spheres,
+    *,
+    t_max: float = ...,
+    accuracy: Accuracy = "stable",
+    out: Optional[F32] = None,
+) -> F32:
+    """Time of impact of ``a[i]`` with ``b[i]`` for every ``i``: float32 ``(N,)``, ``inf`` where
+    the pair does not touch in ``[0, t_max]`` (``t_max`` rounded to float32, default ``inf``).
+    ``out``, a C-contiguous float32 ``(N,)`` array, is written in place and returned. The GIL
+    is released while the kernels run."""
+
+def pair_times(
+    s: Spheres,
+    i: ArrayLike,
+    j: ArrayLike,
+    *,
+    t_max: float = ...,
+    accuracy: Accuracy = "stable",
+    out: Optional[F32] = None,
+) -> F32:
+    """Time of impact of each pair ``(i[k], j[k])`` of spheres of ``s``: float32 ``(P,)``."""
+
+def static_times(
+    s: Spheres,
+    shapes: Sequence[Shape],
+    *,
+    t_max: float = ...,
+    accuracy: Accuracy = "stable",
+) -> F32:
+    """Time of impact of every sphere with each shape: float32 ``(N, len(shapes))``."""
+
+class Scene:
+    """Spheres and the static shapes around them, for ``first_contacts`` and ``all_contacts``."""
+
+    def __init__(
+        self,
+        spheres: Spheres,
+        planes: Optional[Sequence[Plane]] = None,
+        cylinders: Optional[Sequence[Cylinder]] = None,
+        containers: Optional[Sequence[Container]] = None,
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def spheres(self) -> Spheres:
+        """The scene's spheres (a copy)."""
+    @property
+    def shapes(self) -> Tuple[Tuple[Plane, ...], Tuple[Cylinder, ...], Tuple[Container, ...]]:
+        """The planes, cylinders and containers as given."""
+
+class FirstContacts:
+    """The earliest contact of every sphere, indexed by sphere."""
+
+    time: F32
+    """float32 ``(N,)``: time of impact, ``inf`` for none."""
+    kind: npt.NDArray[np.uint8]
+    """uint8 ``(N,)``: ``KIND_*`` of the body touched, ``KIND_NONE`` for none."""
+    index: npt.NDArray[np.int64]
+    """int64 ``(N,)``: index of the body within its kind, -1 for none."""
+    point: Optional[F32]
+    """float32 ``(N, 3)`` contact points (NaN for none) with ``geometry=True``, else None."""
+    normal: Optional[F32]
+    """float32 ``(N, 3)`` unit normals pushing the sphere away, or None."""
+    def __len__(self) -> int: ...
+
+class Contacts:
+    """Every contact in a window, one row each, sorted by time, then sphere, then body."""
+
+    time: F32
+    sphere: npt.NDArray[np.uint32]
+    kind: npt.NDArray[np.uint8]
+    index: npt.NDArray[np.int64]
+    """For two spheres ``sphere < index``; each pair appears once."""
+    point: Optional[F32]
+    normal: Optional[F32]
+    def __len__(self) -> int: ...
+
+def first_contacts(
+    scene: Scene,
+    *,
+    t_max: float = ...,
+    accuracy: Accuracy = "stable",
+    geometry: bool = False,
+) -> FirstContacts:
+    """For every sphere, its earliest contact in ``[0, t_max]`` (ties: spheres, then planes,
+    cylinders, containers, each by index)."""
+
+def all_contacts(
+    scene: Scene,
+    *,
+    t_max: float,
+    accuracy: Accuracy = "stable",
+    geometry: bool = False,
+) -> Contacts:
+    """Every contact in ``[0, t_max]``: each sphere pair once, every sphere with every shape."""
+
+class Simulation:
+    """A running event-driven simulation in float64, collisions in exact time order."""
+
+    @staticmethod
+    def from_scene_file(path: Union[str, "os.PathLike[str]"]) -> "Simulation":
+        """The simulation of a scene file (TOML, or JSON by extension)."""
+    @staticmethod
+    def periodic_gas(
+        n: int,
+        phi: float,
+        radius: float = 0.5,
+        kT: float = 1.0,
+        seed: int = 0,
+        record_events: bool = False,
+    ) -> "Simulation":
+        """``n`` hard spheres at packing fraction ``phi`` in a periodic cube, elastic."""
+    @staticmethod
+    def from_spheres(
+        centres: ArrayLike,
+        velocities: ArrayLike,
+        radii: ArrayLike,
+        masses: Optional[ArrayLike] = None,
+        *,
+        planes: Optional[Sequence[Plane]] = None,
+        cylinders: Optional[Sequence[Cylinder]] = None,
+        containers: Optional[Sequence[Container]] = None,
+        periodic_box: Optional[Vector3] = None,
+        restitution: float = 1.0,
+        record_events: bool = False,
+        geometry: bool = False,
+    ) -> "Simulation":
+        """Spheres given as float64 arrays among static shapes, open or periodic."""
+    def advance_to(self, t: float) -> None:
+        """Processes every collision up to ``t`` (GIL released)."""
+    @property
+    def time(self) -> float: ...
+    @property
+    def t_end(self) -> Optional[float]:
+        """The scene file's ``[run] t_end``, or None."""
+    def __len__(self) -> int: ...
+    @property
+    def positions(self) -> F64:
+        """float64 ``(N, 3)`` centres now (wrapped into a periodic box)."""
+    @property
+    def velocities(self) -> F64: ...
+    @property
+    def radii(self) -> F64: ...
+    @property
+    def masses(self) -> F64: ...
+    def kinetic_energy(self) -> float: ...
+    def momentum(self) -> Tuple[float, float, float]: ...
+    @property
+    def stats(self) -> Dict[str, Union[int, float]]:
+        """Counters: collisions, pair_collisions, wall_collisions, crossings, stale,
+        predictions, kernels_*, energy_lost, virial, max_overlap, joins, guarded."""
+    @property
+    def engine(self) -> str: ...
+    def memory_bytes(self) -> int: ...
+    def clusters(self) -> List[List[int]]: ...
+    def checkpoint(self) -> bytes: ...
+    def take_events(self) -> Dict[str, npt.NDArray[Any]]:
+        """Recorded collisions since the last call: time, sphere, kind, index, approach,
+        restitution, energy_lost (K,) and point, normal (K, 3)."""
