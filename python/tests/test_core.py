@@ -385,3 +385,12 @@ def test_same_bits_as_the_rust_binary(tmp_path, accuracy):
     assert rust.dtype == np.float32 and rust.shape == (n,)
     assert np.isfinite(ours).sum() > n // 20  # about 8 % of the pairs meet
     assert (bits(rust) == bits(ours)).all(), np.flatnonzero(bits(rust) != bits(ours))[:10]
+
+
+def test_the_docs_example_runs_as_printed(capsys):
+    # docs/python.md's five lines: their comments state the output ([4.] from the gap of 8
+    # closing at speed 2; [2.] from b's surface reaching x = 5 at speed 2).
+    text = (ROOT / "docs" / "python.md").read_text()
+    block = text.split("```python\n", 1)[1].split("```", 1)[0]
+    exec(compile(block, "docs/python.md", "exec"), {})
+    assert capsys.readouterr().out == "[4.]\n[2.]\n"
