@@ -13,7 +13,7 @@ pub struct Args {
     /// and family in memory).
     #[arg(long, default_value_t = 4000)]
     cases: usize,
-    /// Seed of the case generator.
+    /// Seed of the case generator (any integer from 0 to 2⁶⁴ − 1).
     #[arg(long, default_value_t = 2026)]
     seed: u64,
     /// Where to write the Markdown report.

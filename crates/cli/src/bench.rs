@@ -31,6 +31,7 @@ pub struct Args {
     sim: bool,
     /// A checkout of Smallenburg's EDMD (github.com/FSmallenburg/EDMD): its "Single" program
     /// is built with gcc -Ofast -march=native and run beside ours, alternately, in this run.
+    /// Default: none (the peer is not run).
     #[arg(long, value_name = "DIR", env = "EDMD_DIR")]
     edmd: Option<std::path::PathBuf>,
 }

@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long, value_name = "MODE")]
     accuracy: Option<Accuracy>,
     /// With the table: also draw the scene from above, with every sphere's path to its first
-    /// contact, as SVG.
+    /// contact, as SVG. Default: no picture.
     #[arg(long, value_name = "FILE")]
     svg: Option<PathBuf>,
     /// Directory for the pictures demo.svg and demo.png [default: spheresweep-demo].

@@ -53,6 +53,7 @@ pub struct Args {
     /// Query every sphere of the input (a spheres file) against the planes, cylinders and
     /// containers of this file: the plane, cylinder and container tables of a scene file
     /// (TOML, or JSON if it ends in .json; docs/scene-format.md; the run table is optional).
+    /// Default: none, the input is a pairs file.
     #[arg(long, value_name = "SHAPES")]
     against: Option<PathBuf>,
     /// Where the results go; its extension picks the format (.csv, .parquet, .arrow,
@@ -60,16 +61,20 @@ pub struct Args {
     /// .npy columns). Default: beside the input, named `<input>-toi`, in the input's format.
     #[arg(long, value_name = "PATH")]
     out: Option<PathBuf>,
-    /// Accuracy mode of the kernels: textbook, stable or double.
+    /// Accuracy mode of the kernels: textbook (the formula as written, f32), stable (f32,
+    /// rearranged to keep its digits) or double (the stable formulas in f64).
     #[arg(long, default_value_t = Accuracy::Stable)]
     accuracy: Accuracy,
-    /// End of the time window [0, t_max] (zero or more; inf for no end).
+    /// End of the time window [0, t_max], in the input's time unit (its lengths over its
+    /// speeds): zero or more, inf for no end.
     #[arg(long, default_value_t = f32::INFINITY, allow_negative_numbers = true)]
     t_max: f32,
     /// Also write the contact point and normal of every contact (px, py, pz, nx, ny, nz).
     #[arg(long)]
     geometry: bool,
-    /// Rows read, queried and written at a time (memory grows with it, not with the input).
+    /// Rows read, queried and written at a time, 1 to 67 108 864 (2²⁶): memory grows with it
+    /// (about 0.7 KiB a row at most), not with the input. A chunk larger than the memory
+    /// available (MemAvailable, or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
     #[arg(long, default_value_t = 1 << 20, value_name = "N")]
     chunk_rows: usize,
 }

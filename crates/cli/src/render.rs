@@ -32,11 +32,13 @@ pub struct Args {
     /// by frame.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Snapshots only: draw frame K (counted from 0) instead of every frame.
+    /// Snapshots only: draw frame K (counted from 0, below the number of frames). Default:
+    /// every frame.
     #[arg(long, value_name = "K")]
     frame: Option<usize>,
     /// Snapshots only: draw this scene file's planes, cylinders and containers behind the
     /// spheres, and name its materials in the legend.
+    /// Default: none, the spheres only.
     #[arg(long, value_name = "SCENE")]
     scene: Option<PathBuf>,
     /// Which files: svg, png or both.

@@ -20,6 +20,12 @@ use spheresweep::sim::{Boundary, EventRecord, Response, Simulation, SphereState}
 
 /// Options of `spheresweep run`.
 #[derive(Debug, clap::Args)]
+#[command(
+    after_help = "Ctrl-C or SIGTERM stops the run between two events: earlier files are \
+kept, temporary files removed, a last checkpoint written with --checkpoint-every; exit code 130. \
+A scene too large for the memory available (MemAvailable, or SPHERESWEEP_MAX_MEMORY in bytes, \
+e.g. 512M) is refused before it is built."
+)]
 pub struct Args {
     /// The scene file: TOML, or JSON if its name ends in .json.
     scene: PathBuf,
@@ -27,10 +33,12 @@ pub struct Args {
     /// beside the scene).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// End time, instead of the scene's `[run] t_end`.
+    /// End time, in the scene's time unit (its lengths over its speeds); finite and greater
+    /// than 0. Default: the scene's `[run] t_end`.
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     t_end: Option<f64>,
-    /// Time between snapshots, instead of the scene's `[run] snapshot_every` (0: none).
+    /// Time between snapshots, in the scene's time unit; 0 for none, at most 10⁶ snapshots.
+    /// Default: the scene's `[run] snapshot_every`.
     #[arg(long, value_name = "EVERY", allow_negative_numbers = true)]
     snapshots: Option<f64>,
     /// No progress bar (there is none either when stderr is not a terminal).
@@ -38,11 +46,13 @@ pub struct Args {
     quiet: bool,
     /// Write `checkpoint.bin` in the output directory every T of simulated time (at the first
     /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
-    /// from the last one.
+    /// from the last one, and Ctrl-C or SIGTERM writes a last one before stopping. T is in the
+    /// scene's time unit, finite and greater than 0. Default: no checkpoints.
     #[arg(long, value_name = "T")]
     checkpoint_every: Option<f64>,
     /// Continue the run a checkpoint of this scene holds (`--checkpoint-every`): the outputs
-    /// end exactly as those of a run never interrupted.
+    /// end exactly as those of a run never interrupted. Give the scene and options the run
+    /// was started with. Default: start from t = 0.
     #[arg(long, value_name = "CHECKPOINT")]
     resume: Option<PathBuf>,
 }

@@ -1,0 +1,271 @@
+//! Limits: a scene or a chunk too large for the memory available is refused before anything
+//! is built, naming the count, the estimated bytes and the memory available; pathological
+//! scenes finish with bounded work or stop with a clear error. Work is bounded by counting
+//! events (the engine asks every 4096 events whether to go on), never by wall-clock time.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::DVec3;
+use spheresweep::Container;
+use spheresweep::sim::{
+    Effects, Fixed, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
+};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_spheresweep"))
+}
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+fn fresh_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
+    let dir = fresh_dir("memory-scene");
+    // 4000 spheres need about 1.4 MiB; say 1 MiB is available.
+    let out = bin()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("out"))
+        .arg(repo("scenes/hard_sphere_gas.toml"))
+        .env("SPHERESWEEP_MAX_MEMORY", "1M")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("hard_sphere_gas.toml")
+            && err.contains("4000 spheres")
+            && err.contains("needs about")
+            && err.contains("1.0 MiB (1048576 B) is available")
+            && err.contains("SPHERESWEEP_MAX_MEMORY"),
+        "{err}"
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "a refused scene wrote its output directory"
+    );
+
+    // A billion spheres are refused against the machine's own memory, before a sphere is
+    // generated (the estimate is 10⁹ × about 360 B).
+    let huge = dir.join("huge.toml");
+    std::fs::write(
+        &huge,
+        "[run]\nt_end = 1\n\n[boundary]\nkind = \"periodic\"\n\n[[generate]]\nkind = \"periodic_gas\"\nn = 250000000\nphi = 0.1\nradius = 0.5\ntemperature = 1.0\n",
+    )
+    .unwrap();
+    let out = bin()
+        .args(["run", "--quiet"])
+        .arg(&huge)
+        .env("SPHERESWEEP_MAX_MEMORY", "8G")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("250000000 spheres") && err.contains("GiB"),
+        "{err}"
+    );
+
+    // A bad override is named.
+    let out = bin()
+        .args(["run", "--quiet"])
+        .arg(repo("scenes/hard_sphere_gas.toml"))
+        .env("SPHERESWEEP_MAX_MEMORY", "lots")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("SPHERESWEEP_MAX_MEMORY=\"lots\""),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_query_chunk_too_large_for_memory_is_refused() {
+    let dir = fresh_dir("memory-query");
+    let input = dir.join("pairs.csv");
+    std::fs::write(
+        &input,
+        "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n0,0,0,1,0,0,1,5,0,0,0,0,0,1\n",
+    )
+    .unwrap();
+    let out = bin()
+        .args(["query", "--chunk-rows", "1000000"])
+        .arg(&input)
+        .env("SPHERESWEEP_MAX_MEMORY", "64M")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("--chunk-rows 1000000")
+            && err.contains("needs about")
+            && err.contains("64.0 MiB"),
+        "{err}"
+    );
+    assert!(!dir.join("pairs-toi.csv").exists());
+    // The same chunk fits in 4 GiB, and a small one in 64 MiB.
+    for (rows, limit) in [("1000000", "4G"), ("1000", "64M")] {
+        let out = bin()
+            .args(["query", "--chunk-rows", rows])
+            .arg(&input)
+            .env("SPHERESWEEP_MAX_MEMORY", limit)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Advances to `t`, at most `max_polls` × 4096 events; returns the events processed, or the
+/// engine's error. Panics if the bound is reached.
+fn run_bounded(sim: &mut Simulation, t: f64, max_polls: u64) -> Result<u64, SimError> {
+    let mut polls = 0u64;
+    let finished = sim.advance_with(t, &mut |_, _| {
+        polls += 1;
+        polls < max_polls
+    })?;
+    let s = sim.stats();
+    assert!(
+        finished,
+        "not finished after {polls} × 4096 events (t = {} of {t})",
+        sim.time()
+    );
+    Ok(s.pair_collisions + s.wall_collisions + s.crossings + s.stale)
+}
+
+fn sphere(centre: DVec3, velocity: DVec3, radius: f64, material: u16) -> SphereState {
+    SphereState {
+        centre,
+        velocity,
+        radius,
+        mass: radius.powi(3),
+        material,
+    }
+}
+
+/// One huge sphere sets the grid's cell size, so that every sphere shares a cell or two with
+/// every other: each prediction looks at all of them, but the run still ends, with work that
+/// grows with the collisions, not without bound.
+#[test]
+fn every_sphere_in_one_cell_finishes() {
+    let vessel = |p: DVec3| p.length() < 9.0 && p.length() > 6.4;
+    let mut spheres = generate::random_spheres(
+        DVec3::splat(-9.5),
+        DVec3::splat(9.5),
+        &vessel,
+        300,
+        0.3,
+        1.0,
+        0,
+        4,
+    )
+    .unwrap();
+    spheres.push(sphere(DVec3::ZERO, DVec3::ZERO, 6.0, 0));
+    let world = World {
+        spheres,
+        containers: vec![Fixed {
+            shape: Container::new([0.0; 3], 10.0).unwrap(),
+            material: 0,
+        }],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    // 300 spheres at speed 1 in a shell of volume ~2600: some thousands of collisions by
+    // t = 20; 250 polls (10⁶ events) is a bound two orders of magnitude above.
+    let events = run_bounded(&mut sim, 20.0, 250).unwrap();
+    assert!(sim.stats().pair_collisions > 0 && events > 0);
+}
+
+/// Every sphere sticks to every other, in a small elastic container: they gather into
+/// clusters and finally one, which moves as a rigid body; the run ends.
+#[test]
+fn everything_stuck_in_one_cluster_finishes() {
+    let inside = |p: DVec3| p.length() < 3.4;
+    let spheres = generate::random_spheres(
+        DVec3::splat(-3.5),
+        DVec3::splat(3.5),
+        &inside,
+        60,
+        0.4,
+        2.0,
+        1,
+        9,
+    )
+    .unwrap();
+    let world = World {
+        spheres,
+        containers: vec![Fixed {
+            shape: Container::new([0.0; 3], 4.0).unwrap(),
+            material: 0,
+        }],
+        // Glue (material 1) sticks to glue; the vessel (material 0) is elastic, so that the
+        // clusters keep moving and meet.
+        materials: vec!["vessel".into(), "glue".into()],
+        effects: Effects {
+            pairs: vec![MaterialPair {
+                a: 1,
+                b: 1,
+                response: Response::Sticky,
+            }],
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    run_bounded(&mut sim, 200.0, 250).unwrap();
+    let clusters = sim.clusters();
+    let largest = clusters.iter().map(Vec::len).max().unwrap_or(0);
+    assert!(
+        largest >= 30,
+        "largest cluster {largest} of 60 spheres after t = 200"
+    );
+}
+
+/// A dense inelastic pile without the TC model can collapse (infinitely many collisions in
+/// finite time): the engine either finishes or stops with `SimError::Stalled`, within the
+/// watchdog's `10⁶ + 1000 N` events at one instant; with the TC model it finishes.
+#[test]
+fn a_dense_inelastic_pile_finishes_or_stops_with_a_clear_error() {
+    let pile = |tc: f64| {
+        let mut world = World::default();
+        generate::periodic_gas(&mut world, 500, 0.45, 0.5, 1.0, 2).unwrap();
+        world.effects = Effects {
+            response: Response::Inelastic { restitution: 0.05 },
+            pairs: Vec::<MaterialPair>::new(),
+            tc,
+            ..Effects::default()
+        };
+        Simulation::new(world).unwrap()
+    };
+    // The watchdog's bound: 10⁶ + 1000 × 500 events at one instant, 367 polls; the run may
+    // also advance slowly, so allow four times that many events in all.
+    let bound = 4 * (1_000_000 + 1000 * 500) / 4096 + 1;
+    match run_bounded(&mut pile(0.0), 50.0, bound) {
+        Ok(_) => {}
+        Err(e @ SimError::Stalled { .. }) => {
+            let text = e.to_string();
+            assert!(
+                text.contains("tc"),
+                "the error does not say what to do: {text}"
+            );
+        }
+        Err(e) => panic!("unexpected error: {e}"),
+    }
+    run_bounded(&mut pile(1e-3), 50.0, bound).unwrap();
+}
