@@ -4,6 +4,7 @@
 //! exits with 130, as a shell does for a command stopped by SIGINT. Their staged outputs are
 //! dropped (temporary files removed) and earlier files are never touched.
 
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Set by the signal handler; read by the work loops.
@@ -13,10 +14,16 @@ static STOP: AtomicBool = AtomicBool::new(false);
 pub const EXIT_CODE: u8 = 130;
 
 /// Catches SIGINT and SIGTERM (and SIGHUP) from now on: they set a flag instead of killing
-/// the process. Call it once, only in a subcommand that polls [`requested`].
+/// the process. Call it only in a subcommand that polls [`requested`]; the handler is
+/// installed once per process, later calls return the first call's outcome.
 pub fn install() -> Result<(), String> {
-    ctrlc::set_handler(|| STOP.store(true, Ordering::SeqCst))
-        .map_err(|e| format!("cannot catch Ctrl-C and SIGTERM: {e}"))
+    static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+    INSTALLED
+        .get_or_init(|| {
+            ctrlc::set_handler(|| STOP.store(true, Ordering::SeqCst))
+                .map_err(|e| format!("cannot catch Ctrl-C and SIGTERM: {e}"))
+        })
+        .clone()
 }
 
 /// Whether an interruption has been asked for.

@@ -21,6 +21,8 @@ mod layout;
 mod npy;
 mod shapes;
 mod staged;
+#[cfg(test)]
+mod tests;
 
 #[cfg(feature = "parquet")]
 mod columnar;
