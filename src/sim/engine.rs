@@ -323,7 +323,8 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         // Its pending entry where the buckets do not hold it (the heap, the far list).
         + size_of::<Entry>();
     // The grid's eight `slots` and one `count` per cell, as `Cells::new` makes them.
-    let per_cell = 8 * size_of::<u32>() + size_of::<u32>();
+    const SLOTS: usize = 8;
+    let per_cell = SLOTS * size_of::<u32>() + size_of::<u32>();
     let buckets = n.max(2).checked_next_power_of_two().unwrap_or(usize::MAX);
     n.saturating_mul(per_sphere)
         // A bucket in use holds at least the four entries a growing `Vec` starts with.
