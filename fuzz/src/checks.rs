@@ -107,16 +107,8 @@ pub fn columns(data: &[u8]) {
             assert_eq!(store.len(), n);
             for i in 0..n {
                 let s = store.get(i).expect("every sphere is there");
-                let given = [
-                    cols[0][i],
-                    cols[1][i],
-                    cols[2][i],
-                    cols[3][i],
-                    cols[4][i],
-                    cols[5][i],
-                    cols[6][i],
-                    if with_mass { cols[7][i] } else { 1.0 },
-                ];
+                let given: [f32; 8] =
+                    std::array::from_fn(|k| cols.get(k).map_or(1.0, |c: &Vec<f32>| c[i]));
                 let (c, v) = (s.centre(), s.velocity());
                 let read = [c.x, c.y, c.z, v.x, v.y, v.z, s.radius(), s.mass()];
                 assert_eq!(
