@@ -216,7 +216,7 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
         let stop = t_end * k as f64 / SAMPLES as f64;
         let finished = sim.advance_with(stop, &mut |t, s| {
             bar.show(t, s) && !crate::interrupt::requested()
-        })?;
+        })? && !crate::interrupt::requested();
         if !finished {
             bar.finish();
             let s = sim.stats();

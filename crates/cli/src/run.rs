@@ -453,7 +453,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         let start = Instant::now();
         let finished = sim.advance_with(stop, &mut |t, s| {
             bar.show(t, s) && !crate::interrupt::requested()
-        })?;
+        })? && !crate::interrupt::requested();
         simulated += start.elapsed();
         bar.show(sim.time(), sim.stats());
         if let Some(f) = events.as_mut() {
@@ -462,8 +462,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             write_events(f.writer(), &batch, geometry).map_err(|e| f.fail(e))?;
         }
         if !finished {
-            // Ctrl-C or SIGTERM: stopped between two events. A last checkpoint (if they are
-            // on) continues with this same stop; the staged outputs are dropped (removed).
+            // Ctrl-C or SIGTERM: stopped between two events, or at this stop before its
+            // snapshot (a stop of fewer than 4096 events is never polled inside). A last
+            // checkpoint (if they are on) continues with this same stop; the staged outputs are
+            // dropped (removed).
             bar.finish();
             let stats = *sim.stats();
             let done = format!(

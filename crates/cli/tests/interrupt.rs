@@ -217,3 +217,38 @@ fn sigterm_stops_demo_without_writing_a_picture() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A small scene whose stops each take fewer than 4096 events (so the engine never polls
+/// inside one) is still stopped, at the next stop.
+#[test]
+fn sigterm_stops_a_run_of_short_steps() {
+    let dir = fresh_dir("short-steps");
+    let scene = dir.join("small.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 400000\nsnapshot_every = 1\n\n[boundary]\nkind = \"periodic\"\n\n[[generate]]\nkind = \"periodic_gas\"\nn = 32\nphi = 0.2\nradius = 0.5\ntemperature = 1.0\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let mut child = Command::new(bin())
+        .args(["run", "--quiet", "--checkpoint-every", "5", "--out"])
+        .arg(&out)
+        .arg(&scene)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stopped = interrupt_once(&mut child, &out.join("checkpoint.bin"), "TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted at t = ") && err.contains("--resume"),
+        "{err}"
+    );
+    assert!(
+        temporary_files(&out).is_empty(),
+        "{:?}",
+        temporary_files(&out)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
