@@ -252,3 +252,44 @@ fn sigterm_stops_a_run_of_short_steps() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `query` stops between two chunks: its staged output is removed and an earlier output kept.
+#[test]
+fn sigterm_stops_query_between_chunks() {
+    let dir = fresh_dir("query-term");
+    let input = dir.join("pairs.csv");
+    let mut text = String::from("ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n");
+    for i in 0..200_000 {
+        text.push_str(&format!("0,0,0,1,0,0,1,{},0,0,0,0,0,1\n", 3 + i % 7));
+    }
+    std::fs::write(&input, text).unwrap();
+    let output = dir.join("times.csv");
+    std::fs::write(&output, b"an earlier query").unwrap();
+    let mut child = Command::new(bin())
+        .args(["query", "--chunk-rows", "1", "--out"])
+        .arg(&output)
+        .arg(&input)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The staged output exists once the query has started on its chunks.
+    while temporary_files(&dir).is_empty() {
+        assert!(child.try_wait().unwrap().is_none(), "the query ended first");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let stopped = interrupt_once(&mut child, &dir, "TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted after") && err.contains("chunks"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&output).unwrap(), b"an earlier query");
+    assert!(
+        temporary_files(&dir).is_empty(),
+        "{:?}",
+        temporary_files(&dir)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
