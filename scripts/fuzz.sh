@@ -29,11 +29,12 @@ start=$(date +%s)
 cargo build --release --locked --target "$triple" --bins --config 'profile.release.debug="line-tables-only"'
 echo "fuzz targets built in $(( $(date +%s) - start )) s"
 
+bin="${CARGO_TARGET_DIR:-target}/$triple/release"
 status=0
 for t in "${targets[@]}"; do
     mkdir -p "corpus/$t" "artifacts/$t"
     log="artifacts/$t/last-run.log"
-    if "target/$triple/release/$t" -max_total_time="$seconds" -rss_limit_mb=2048 \
+    if "$bin/$t" -max_total_time="$seconds" -rss_limit_mb=2048 \
         -timeout=10 -artifact_prefix="artifacts/$t/" -print_final_stats=1 \
         "corpus/$t" "seeds/$t" > "$log" 2>&1; then
         runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
