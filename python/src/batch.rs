@@ -1,8 +1,10 @@
 //! Spheres, static shapes and the batch entry points (`zip_times`, `pair_times`,
 //! `static_times`): NumPy in, NumPy out, the GIL released while the kernels run.
 
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::ndarray::{Array2, ArrayView1, ArrayView2, Ix1, Ix2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -10,7 +12,7 @@ use spheresweep::batch::{self, StaticShape};
 use spheresweep::store::{Columns, Field, StoreError};
 use spheresweep::{Accuracy, QueryOptions, Sphere, SphereStore};
 
-use crate::arrays::{Expect, floats, indices, row3, vector3};
+use crate::arrays::{Expect, floats, indices, vector3};
 
 /// A Rust error as a Python `ValueError` carrying the Rust message.
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -39,6 +41,20 @@ pub struct Spheres {
     pub(crate) store: SphereStore,
 }
 
+/// A checked `(N, 3)` argument as a 2-D view (fixed dimensions index faster than dynamic).
+fn rows_view<'a>(a: &'a PyReadonlyArrayDyn<'_, f32>) -> ArrayView2<'a, f32> {
+    a.as_array()
+        .into_dimensionality::<Ix2>()
+        .expect("shape checked as (N, 3)")
+}
+
+/// A checked `(N,)` argument as a 1-D view.
+fn column_view<'a>(a: &'a PyReadonlyArrayDyn<'_, f32>) -> ArrayView1<'a, f32> {
+    a.as_array()
+        .into_dimensionality::<Ix1>()
+        .expect("shape checked as (N,)")
+}
+
 fn invalid(index: usize, e: spheresweep::ShapeError) -> PyErr {
     value_error(StoreError::Invalid { index, source: e })
 }
@@ -57,10 +73,11 @@ impl Spheres {
 
     /// `(N, 3)` of three columns.
     fn rows3<'py>(&self, py: Python<'py>, fields: [Field; 3]) -> Bound<'py, PyArray2<f32>> {
-        let cols = fields.map(|f| self.store.column(f));
-        let data: Vec<f32> = (0..self.store.len())
-            .flat_map(|i| cols.iter().map(move |c| c.get(i).expect("i below len")))
-            .collect();
+        let [x, y, z] = fields.map(|f| self.store.column(f).to_vec());
+        let mut data = Vec::with_capacity(3 * x.len());
+        for ((x, y), z) in x.into_iter().zip(y).zip(z) {
+            data.extend_from_slice(&[x, y, z]);
+        }
         Array2::from_shape_vec((self.store.len(), 3), data)
             .expect("3 entries per sphere")
             .into_pyarray(py)
@@ -92,13 +109,14 @@ impl Spheres {
                 return Err(rows_mismatch(name, len, n));
             }
         }
-        let (c, v, r) = (c.as_array(), v.as_array(), r.as_array());
-        let m = m.as_ref().map(|m| m.as_array());
+        let (c, v) = (rows_view(&c), rows_view(&v));
+        let r = column_view(&r);
+        let m = m.as_ref().map(column_view);
         let mut store = SphereStore::with_capacity(n);
         for i in 0..n {
-            let mass = m.as_ref().map_or(1.0, |m| m[[i]]);
-            let s =
-                Sphere::new(row3(&c, i), row3(&v, i), r[[i]], mass).map_err(|e| invalid(i, e))?;
+            let row = |a: &ArrayView2<'_, f32>| [a[[i, 0]], a[[i, 1]], a[[i, 2]]];
+            let mass = m.as_ref().map_or(1.0, |m| m[i]);
+            let s = Sphere::new(row(&c), row(&v), r[i], mass).map_err(|e| invalid(i, e))?;
             store.push(&s);
         }
         Ok(Self { store })
@@ -141,7 +159,7 @@ impl Spheres {
             .chain(mass.as_ref())
             .map(|a| match a.as_slice() {
                 Ok(s) => std::borrow::Cow::Borrowed(s),
-                Err(_) => std::borrow::Cow::Owned(a.as_array().iter().copied().collect()),
+                Err(_) => std::borrow::Cow::Owned(column_view(a).to_vec()),
             })
             .collect();
         let columns = Columns {

@@ -343,14 +343,16 @@ ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
 
 
 def rust_cli():
-    """The `spheresweep` binary, built from this checkout (a no-op when `cargo test` or an
-    earlier run built it): its `query` answers pairs with the library's `zip_times`."""
+    """The `spheresweep` binary built from this checkout, as `cargo test` at the root builds
+    it for the CLI's tests (so after `cargo test` this is a no-op; before, it is the compile
+    `cargo test` would do anyway): its `query` answers pairs with the library's `zip_times`.
+    `SPHERESWEEP_CLI` names another binary instead."""
     import os
     import subprocess
 
     if os.environ.get("SPHERESWEEP_CLI"):
         return os.environ["SPHERESWEEP_CLI"]
-    subprocess.run(["cargo", "build", "--quiet", "-p", "spheresweep-cli"], cwd=ROOT, check=True)
+    subprocess.run(["cargo", "test", "--no-run", "--quiet"], cwd=ROOT, check=True, capture_output=True)
     target = os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target"))
     return str(__import__("pathlib").Path(target) / "debug" / "spheresweep")
 
