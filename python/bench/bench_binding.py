@@ -4,8 +4,9 @@ on the same stores, in the same process.
 For each size N, spheres A and B (float32, random, about a third of the pairs touching) are
 built once. Then, interleaved round by round so that both see the same machine state:
 
-- ``rust``: ``ss._native._rust_zip_times_ns`` times ``batch::zip_times`` alone in Rust, into an
-  output buffer allocated and written once before timing (the library's best case);
+- ``rust``: ``ss._native._rust_zip_times_ns`` times ``batch::zip_times`` alone in Rust (GIL
+  released, ``Instant`` around the call), into the same reused float32 array the Python
+  ``out=`` call writes, or into a vector it allocates per call (``rust, new out``);
 - ``python``: ``ss.zip_times(a, b)`` timed with ``time.perf_counter_ns`` around the call: the
   argument parsing, the GIL release, a new float32 output array (its pages first touched by the
   kernels) and the wrapping into a NumPy array;
@@ -47,11 +48,11 @@ def measure(n, rounds, accuracy="stable"):
     # Warm up every path once (pages, rayon threads, caches).
     ss.zip_times(a, b, accuracy=accuracy)
     ss.zip_times(a, b, accuracy=accuracy, out=buf)
-    _native._rust_zip_times_ns(a, b, math.inf, accuracy, 1)
+    _native._rust_zip_times_ns(a, b, math.inf, accuracy, 1, buf)
     rust, rust_fresh, py, py_out = [], [], [], []
     for _ in range(rounds):
-        rust.append(_native._rust_zip_times_ns(a, b, math.inf, accuracy, 1)[0])
-        rust_fresh.append(_native._rust_zip_times_ns(a, b, math.inf, accuracy, 1, True)[0])
+        rust.append(_native._rust_zip_times_ns(a, b, math.inf, accuracy, 1, buf)[0])
+        rust_fresh.append(_native._rust_zip_times_ns(a, b, math.inf, accuracy, 1)[0])
         t0 = time.perf_counter_ns()
         times = ss.zip_times(a, b, accuracy=accuracy)
         py.append(time.perf_counter_ns() - t0)
