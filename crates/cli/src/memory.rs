@@ -57,6 +57,22 @@ pub fn check(what: &str, bytes: u64) -> Result<(), String> {
     }
 }
 
+/// Refuses a scene file whose spheres (counted before any is generated) would not fit in the
+/// memory available at `per_sphere` bytes each, naming the file and the count.
+pub fn check_scene(
+    path: &std::path::Path,
+    scene: &spheresweep::io::scene_file::SceneFile,
+    per_sphere: usize,
+) -> Result<(), String> {
+    match scene.sphere_count() {
+        Some(n) => check(
+            &format!("{}: {n} spheres", path.display()),
+            n.saturating_mul(per_sphere) as u64,
+        ),
+        None => Ok(()),
+    }
+}
+
 /// Bytes in MiB or GiB.
 pub fn human(bytes: u64) -> String {
     let b = bytes as f64;

@@ -168,6 +168,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 .into());
             }
             let scene = SceneFile::from_path(&args.input)?;
+            crate::memory::check_scene(&args.input, &scene, size_of::<SphereState>())?;
             let (world, _) = scene.build()?;
             shapes = Shapes::of_world(&world);
             material_names.clone_from(&world.materials);
@@ -196,6 +197,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             };
             if let Some(scene_path) = &args.scene {
                 let scene = SceneFile::from_path(scene_path)?;
+                crate::memory::check_scene(scene_path, &scene, size_of::<SphereState>())?;
                 let (world, _) = scene.build()?;
                 shapes = Shapes::of_world(&world);
                 material_names.clone_from(&world.materials);

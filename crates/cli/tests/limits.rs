@@ -269,3 +269,47 @@ fn a_dense_inelastic_pile_finishes_or_stops_with_a_clear_error() {
     }
     run_bounded(&mut pile(1e-3), 50.0, bound).unwrap();
 }
+
+/// `render` of a scene and `query --against` a shapes file build the scene's spheres too:
+/// a count too large for memory is refused before any is generated.
+#[test]
+fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
+    let dir = fresh_dir("memory-render");
+    let huge = dir.join("huge.toml");
+    std::fs::write(
+        &huge,
+        "[run]\nt_end = 1\n\n[[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n\n[[generate]]\nkind = \"lattice\"\nlo = [0, 0, 1]\ncounts = [1000, 1000, 1000]\nspacing = 1.0\nradius = 0.4\n",
+    )
+    .unwrap();
+    let out = bin()
+        .args(["render", "--out"])
+        .arg(dir.join("pictures"))
+        .arg(&huge)
+        .env("SPHERESWEEP_MAX_MEMORY", "1G")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("1000000000 spheres") && err.contains("needs about"),
+        "{err}"
+    );
+    assert!(!dir.join("pictures").exists());
+
+    let spheres = dir.join("spheres.csv");
+    std::fs::write(&spheres, "x,y,z,vx,vy,vz,r\n0,0,5,0,0,-1,1\n").unwrap();
+    let out = bin()
+        .args(["query", "--against"])
+        .arg(&huge)
+        .arg(&spheres)
+        .env("SPHERESWEEP_MAX_MEMORY", "1G")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("1000000000 spheres") && err.contains("huge.toml"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -47,6 +47,8 @@ pub fn read(path: &Path) -> Result<Shapes, String> {
             SceneFile::from_toml_str(&format!("{text}{RUN_TOML}")).map_err(|e| at(&e))?
         }
     };
+    // Spheres in a shapes file are built (and ignored): refuse a count too large for memory.
+    crate::memory::check_scene(path, &scene, size_of::<spheresweep::sim::SphereState>())?;
     let (world, _) = scene.build().map_err(|e| at(&e))?;
     let shapes = Shapes {
         planes: world.planes.iter().map(|f| f.shape).collect(),
