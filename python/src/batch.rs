@@ -229,14 +229,14 @@ impl Plane {
 
     /// A point of the plane, as given.
     #[getter]
-    fn point(&self) -> [f32; 3] {
-        self.shape.point().to_array()
+    fn point(&self) -> (f32, f32, f32) {
+        self.shape.point().into()
     }
 
     /// The normal, as given.
     #[getter]
-    fn normal(&self) -> [f32; 3] {
-        self.shape.normal().to_array()
+    fn normal(&self) -> (f32, f32, f32) {
+        self.shape.normal().into()
     }
 
     fn __repr__(&self) -> String {
@@ -269,14 +269,14 @@ impl Cylinder {
 
     /// First point of the axis, as given.
     #[getter]
-    fn p1(&self) -> [f32; 3] {
-        self.p1
+    fn p1(&self) -> (f32, f32, f32) {
+        self.p1.into()
     }
 
     /// Second point of the axis, as given.
     #[getter]
-    fn p2(&self) -> [f32; 3] {
-        self.p2
+    fn p2(&self) -> (f32, f32, f32) {
+        self.p2.into()
     }
 
     /// Radius.
@@ -314,8 +314,8 @@ impl Container {
 
     /// Centre.
     #[getter]
-    fn centre(&self) -> [f32; 3] {
-        self.shape.centre().to_array()
+    fn centre(&self) -> (f32, f32, f32) {
+        self.shape.centre().into()
     }
 
     /// Inner radius.

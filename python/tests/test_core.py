@@ -396,3 +396,47 @@ def test_the_docs_example_runs_as_printed(capsys):
     block = text.split("```python\n", 1)[1].split("```", 1)[0]
     exec(compile(block, "docs/python.md", "exec"), {})
     assert capsys.readouterr().out == "[4.]\n[2.]\n"
+
+
+def test_scene_accessors():
+    s = ss.Spheres([[0, 0, 3]], [[0, 0, -1]], [1.0])
+    floor, pillar = ss.Plane([0, 0, 0], [0, 0, 1]), ss.Cylinder([5, 0, 0], [5, 0, 1], 1.0)
+    scene = ss.Scene(s, planes=[floor], cylinders=(pillar,))
+    planes, cylinders, containers = scene.shapes
+    assert planes == (floor,) and cylinders == (pillar,) and containers == ()
+    assert len(scene) == 1 and scene.spheres.centres.tolist() == [[0, 0, 3]]
+    assert pillar.p1 == (5.0, 0.0, 0.0) and pillar.radius == 1.0 and floor.normal == (0.0, 0.0, 1.0)
+
+
+def test_zip_times_releases_the_gil():
+    # A thread runs zip_times over 2·10^6 pairs again and again; this thread must keep running
+    # meanwhile (with the GIL held, its longest pause would be a whole call).
+    import threading
+    import time
+
+    rng = np.random.default_rng(8)
+    c, v, r, _ = random_spheres(rng, 2_000_000)
+    a, b = ss.Spheres(c, v, r), ss.Spheres(c[::-1].copy(), v, r)
+    out = np.empty(len(a), np.float32)
+    t0 = time.perf_counter()
+    ss.zip_times(a, b, out=out)
+    one = time.perf_counter() - t0
+    calls = max(3, int(0.5 / one))
+    done = threading.Event()
+
+    def run():
+        for _ in range(calls):
+            ss.zip_times(a, b, out=out)
+        done.set()
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    last = start = time.perf_counter()
+    longest = 0.0
+    while not done.is_set():
+        now = time.perf_counter()
+        longest = max(longest, now - last)
+        last = now
+    worker.join()
+    per_call = (time.perf_counter() - start) / calls
+    assert longest < 0.5 * per_call * calls and longest < max(per_call, 0.05), (longest, per_call)

@@ -168,3 +168,20 @@ def test_advance_releases_the_gil():
     duration = time.perf_counter() - t0
     assert duration > 0.3, "the run was too short to tell"
     assert longest < 0.5 * duration, (longest, duration)
+
+
+def test_from_spheres_in_a_periodic_box_matches_periodic_gas():
+    # The spheres of a periodic gas handed back through from_spheres with the same box: the
+    # same world, so the same run.
+    gas = ss.Simulation.periodic_gas(500, 0.2, seed=6)
+    # The generator's box: the volume n (4/3) pi r^3 / phi in its order of operations, cbrt.
+    side = float(np.cbrt(500 * 4.0 / 3.0 * math.pi * 0.5**3 / 0.2))
+    again = ss.Simulation.from_spheres(gas.positions, gas.velocities, gas.radii, gas.masses,
+                                       periodic_box=[side] * 3)
+    assert again.engine == gas.engine
+    gas.advance_to(2.0)
+    again.advance_to(2.0)
+    assert gas.stats == again.stats
+    assert np.array_equal(gas.positions, again.positions)
+    with pytest.raises(ValueError, match="periodic box x"):
+        ss.Simulation.from_spheres(gas.positions, gas.velocities, gas.radii, periodic_box=[1.0, side, side])
