@@ -266,9 +266,15 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             (Key::Disk(colour(m)), label)
         })
         .collect();
+    // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
+    // one is whole (written under a temporary name and renamed).
+    crate::interrupt::install()?;
     let results: Vec<Result<Vec<(PathBuf, bool)>, String>> = pictures
         .par_iter()
         .map(|p| {
+            if crate::interrupt::requested() {
+                return Ok(Vec::new());
+            }
             let canvas = draw(size, views, p, &shapes, bounds, &legend);
             let mut written = Vec::new();
             for ext in extensions {
@@ -297,8 +303,16 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         }
         return Err(e.into());
     }
-    let mut out = std::io::stdout().lock();
     let files = written.len();
+    if files < pictures.len() * extensions.len() {
+        return Err(crate::interrupt::Interrupted(format!(
+            "after {files} of {} pictures: those are whole and kept in {}, the rest not drawn",
+            pictures.len() * extensions.len(),
+            dir.display()
+        ))
+        .into());
+    }
+    let mut out = std::io::stdout().lock();
     match written.as_slice() {
         [] => {}
         [(only, _)] => writeln!(out, "wrote {} ({size} px)", only.display())?,

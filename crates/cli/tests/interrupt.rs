@@ -293,3 +293,49 @@ fn sigterm_stops_query_between_chunks() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `render` of a sequence stops drawing: the pictures it finished are whole, no temporary
+/// file is left, and it says how many it wrote.
+#[test]
+fn sigterm_stops_render_of_a_sequence() {
+    let dir = fresh_dir("render-term");
+    let scene = dir.join("small.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 300\nsnapshot_every = 1\n\n[boundary]\nkind = \"periodic\"\n\n[[generate]]\nkind = \"periodic_gas\"\nn = 64\nphi = 0.2\nradius = 0.5\ntemperature = 1.0\n",
+    )
+    .unwrap();
+    let ran = Command::new(bin())
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("run"))
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let pictures = dir.join("pictures");
+    let mut child = Command::new(bin())
+        .args(["render", "--out"])
+        .arg(&pictures)
+        .arg(dir.join("run/trajectory.xyz"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stopped = interrupt_once(&mut child, &pictures.join("frame-0000.png"), "TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted after") && err.contains("of 602 pictures"),
+        "{err}"
+    );
+    assert!(
+        temporary_files(&pictures).is_empty(),
+        "{:?}",
+        temporary_files(&pictures)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
