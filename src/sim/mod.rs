@@ -45,6 +45,30 @@ pub const OVERLAP_TOLERANCE: f64 = 1.0 / (1u64 << 16) as f64;
 
 /// Kernel evaluations by kind (sphere pairs count neighbours screened in f32 lanes; static
 /// shapes count f64 kernel calls): which kernels a scene ran, and how often.
+///
+/// ```
+/// # use glam::DVec3;
+/// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+/// # let ball = |x: f64, vx: f64| SphereState {
+/// #     centre: DVec3::new(x, 0.0, 0.0),
+/// #     velocity: DVec3::new(vx, 0.0, 0.0),
+/// #     radius: 0.5,
+/// #     mass: 1.0,
+/// #     material: 0,
+/// # };
+/// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+/// let world = World {
+///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+///     ..World::default()
+/// };
+/// let mut sim = Simulation::new(world)?;
+/// sim.advance_to(2.0)?;
+/// let kernels = sim.stats().kernels;
+/// assert!(kernels.sphere > 0);
+/// assert_eq!((kernels.plane, kernels.cylinder, kernels.container), (0, 0, 0)); // no shapes
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct KernelCounts {
     /// Sphere–sphere lanes.
@@ -58,6 +82,30 @@ pub struct KernelCounts {
 }
 
 /// Counters and accumulated observables since the start.
+///
+/// ```
+/// # use glam::DVec3;
+/// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+/// # let ball = |x: f64, vx: f64| SphereState {
+/// #     centre: DVec3::new(x, 0.0, 0.0),
+/// #     velocity: DVec3::new(vx, 0.0, 0.0),
+/// #     radius: 0.5,
+/// #     mass: 1.0,
+/// #     material: 0,
+/// # };
+/// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+/// let world = World {
+///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+///     ..World::default()
+/// };
+/// let mut sim = Simulation::new(world)?;
+/// sim.advance_to(2.0)?;
+/// let stats = sim.stats();
+/// assert_eq!((stats.pair_collisions, stats.wall_collisions, stats.joins), (1, 0, 0));
+/// assert_eq!(stats.energy_lost, 0.0); // elastic
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Stats {
     /// Sphere–sphere collisions (or reported contacts).
@@ -86,6 +134,30 @@ pub struct Stats {
 }
 
 /// Contact point and normal of an event.
+///
+/// ```
+/// # use glam::DVec3;
+/// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+/// # let ball = |x: f64, vx: f64| SphereState {
+/// #     centre: DVec3::new(x, 0.0, 0.0),
+/// #     velocity: DVec3::new(vx, 0.0, 0.0),
+/// #     radius: 0.5,
+/// #     mass: 1.0,
+/// #     material: 0,
+/// # };
+/// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+/// let world = World {
+///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+///     ..World::default()
+/// };
+/// let mut sim = Simulation::new(world)?;
+/// sim.advance_to(2.0)?;
+/// let g = sim.take_events()[0].geometry.unwrap(); // the scene asked for geometry
+/// assert!((g.point - DVec3::new(1.5, 0.0, 0.0)).length() < 1e-12); // midway at t = 1
+/// assert!((g.normal.x.abs() - 1.0).abs() < 1e-12);
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EventGeometry {
     /// Where the bodies touch.
@@ -95,6 +167,34 @@ pub struct EventGeometry {
 }
 
 /// One processed collision.
+///
+/// ```
+/// # use glam::DVec3;
+/// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+/// # let ball = |x: f64, vx: f64| SphereState {
+/// #     centre: DVec3::new(x, 0.0, 0.0),
+/// #     velocity: DVec3::new(vx, 0.0, 0.0),
+/// #     radius: 0.5,
+/// #     mass: 1.0,
+/// #     material: 0,
+/// # };
+/// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+/// let world = World {
+///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+///     ..World::default()
+/// };
+/// use spheresweep::{Body, ShapeKind};
+/// let mut sim = Simulation::new(world)?;
+/// sim.advance_to(2.0)?;
+/// let events = sim.take_events();
+/// assert_eq!(events.len(), 1);
+/// let e = events[0];
+/// assert!((e.time - 1.0).abs() < 1e-12 && (e.approach - 2.0).abs() < 1e-12);
+/// assert_eq!((e.restitution, e.energy_lost), (1.0, 0.0));
+/// assert_eq!((e.sphere, e.other), (0, Body::new(ShapeKind::Sphere, 1)));
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EventRecord {
     /// When.
@@ -240,6 +340,30 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
 }
 
 /// A running simulation.
+///
+/// ```
+/// # use glam::DVec3;
+/// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+/// # let ball = |x: f64, vx: f64| SphereState {
+/// #     centre: DVec3::new(x, 0.0, 0.0),
+/// #     velocity: DVec3::new(vx, 0.0, 0.0),
+/// #     radius: 0.5,
+/// #     mass: 1.0,
+/// #     material: 0,
+/// # };
+/// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+/// let world = World {
+///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+///     ..World::default()
+/// };
+/// let mut sim = Simulation::new(world)?;
+/// sim.advance_to(2.0)?;
+/// let [a, b] = [sim.spheres()[0], sim.spheres()[1]];
+/// assert!((a.centre.x - 0.0).abs() < 1e-12 && (b.centre.x - 3.0).abs() < 1e-12); // back at the start
+/// assert_eq!((a.velocity.x, b.velocity.x), (-1.0, 1.0)); // velocities swapped
+/// # Ok::<(), spheresweep::sim::SimError>(())
+/// ```
 pub struct Simulation {
     engine: Box<dyn Run>,
     /// Each sphere's material and mass, in public order.
@@ -261,6 +385,29 @@ impl std::fmt::Debug for Simulation {
 impl Simulation {
     /// Validates the world, checks that no two bodies overlap beyond [`OVERLAP_TOLERANCE`],
     /// and assembles the engine for exactly the effects the world uses.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// use spheresweep::sim::SimError;
+    /// assert!(Simulation::new(world.clone()).is_ok());
+    /// let overlapping = World { spheres: vec![ball(0.0, 0.0), ball(0.5, 0.0)], ..world };
+    /// assert!(matches!(Simulation::new(overlapping), Err(SimError::Overlap { a: 0, b: 1, .. })));
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn new(world: World) -> Result<Self, SimError> {
         world.validate()?;
         let fingerprint = world_fingerprint(&world);
@@ -448,6 +595,31 @@ impl Simulation {
     }
 
     /// Processes every event up to time `t` (inclusive) and moves the clock to `t`.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// sim.advance_to(0.5)?;
+    /// assert_eq!((sim.time(), sim.stats().pair_collisions), (0.5, 0)); // not yet
+    /// sim.advance_to(1.5)?;
+    /// assert_eq!(sim.stats().pair_collisions, 1);
+    /// assert!(sim.advance_to(1.0).is_err()); // time runs forward only
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
         self.advance_with(t, &mut |_, _| true).map(|_| ())
     }
@@ -455,6 +627,30 @@ impl Simulation {
     /// As [`advance_to`](Self::advance_to), asking `keep_going(time, stats)` every 4096
     /// events whether to continue (for progress bars and interruption). Returns `false` when
     /// stopped early, at a consistent state between two events.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// let mut asked = 0;
+    /// let finished = sim.advance_with(2.0, &mut |_, _| { asked += 1; true })?;
+    /// assert!(finished && sim.time() == 2.0);
+    /// assert!(asked <= 1); // one event here: at most one question, at the end
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn advance_with(
         &mut self,
         t: f64,
@@ -468,16 +664,84 @@ impl Simulation {
     }
 
     /// The current time.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// assert_eq!(sim.time(), 0.0);
+    /// sim.advance_to(0.25)?;
+    /// assert_eq!(sim.time(), 0.25);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn time(&self) -> f64 {
         self.engine.now()
     }
 
     /// Counters and accumulated observables.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// assert_eq!(sim.stats().pair_collisions, 0);
+    /// sim.advance_to(2.0)?;
+    /// assert_eq!(sim.stats().pair_collisions, 1);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn stats(&self) -> &Stats {
         self.engine.stats()
     }
 
     /// Which engine the world was assembled into (response, boundary, shapes, geometry).
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let sim = Simulation::new(world)?;
+    /// assert!(sim.engine_name().starts_with("elastic, open"));
+    /// assert!(sim.engine_name().contains("contact geometry")); // the scene records geometry
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn engine_name(&self) -> String {
         self.engine.name()
     }
@@ -521,6 +785,33 @@ impl Simulation {
     /// world, the run continues bit for bit as this one would. Take it between
     /// [`advance_with`](Self::advance_with) calls (or when one stops early); unread event
     /// records are not part of it.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world.clone())?;
+    /// sim.advance_to(0.5)?;
+    /// let saved = sim.checkpoint();
+    /// let mut again = Simulation::restore(world, &saved)?;
+    /// assert_eq!(again.time(), 0.5);
+    /// again.advance_to(2.0)?;
+    /// sim.advance_to(2.0)?;
+    /// assert_eq!(again.spheres(), sim.spheres()); // bit for bit
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn checkpoint(&self) -> Vec<u8> {
         let mut e = checkpoint::Encoder::default();
         e.0.extend_from_slice(checkpoint::MAGIC);
@@ -589,6 +880,29 @@ impl Simulation {
     }
 
     /// Every sphere at the current time (periodic centres wrapped into the box).
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// sim.advance_to(0.5)?;
+    /// let s = sim.spheres();
+    /// assert_eq!((s.len(), s[0].centre.x, s[1].centre.x), (2, 0.5, 2.5));
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn spheres(&self) -> Vec<SphereState> {
         self.engine
             .current()
@@ -605,6 +919,29 @@ impl Simulation {
     }
 
     /// Total kinetic energy `Σ ½ m v²`.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// assert_eq!(sim.kinetic_energy(), 1.0); // 2 × ½ · 1 · 1²
+    /// sim.advance_to(2.0)?;
+    /// assert!((sim.kinetic_energy() - 1.0).abs() < 1e-12); // elastic
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn kinetic_energy(&self) -> f64 {
         let m = self.engine.motion();
         m.bodies
@@ -615,6 +952,29 @@ impl Simulation {
     }
 
     /// Total momentum `Σ m v`.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// assert_eq!(sim.momentum(), DVec3::ZERO); // equal and opposite
+    /// sim.advance_to(2.0)?;
+    /// assert!(sim.momentum().length() < 1e-12);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn momentum(&self) -> DVec3 {
         let m = self.engine.motion();
         m.bodies
@@ -625,11 +985,60 @@ impl Simulation {
     }
 
     /// The events recorded since the last call (empty unless `Effects::record_events`).
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// sim.advance_to(2.0)?;
+    /// assert_eq!(sim.take_events().len(), 1);
+    /// assert!(sim.take_events().is_empty()); // taken
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn take_events(&mut self) -> Vec<EventRecord> {
         self.engine.take_log()
     }
 
     /// Clusters of two or more spheres (sticky scenes), as sphere indices.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// use spheresweep::sim::Response;
+    /// let sticky = World { effects: Effects { response: Response::Sticky, ..Effects::default() }, ..world };
+    /// let mut sim = Simulation::new(sticky)?;
+    /// assert!(sim.clusters().is_empty());
+    /// sim.advance_to(2.0)?;
+    /// assert_eq!(sim.clusters(), [vec![0, 1]]); // they met and stuck
+    /// assert!(sim.momentum().length() < 1e-12 && sim.kinetic_energy() < 1e-12); // and stopped
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
     pub fn clusters(&self) -> Vec<Vec<u32>> {
         self.engine.clusters()
     }
