@@ -54,6 +54,14 @@ pub const MAX_SPHERES: usize = 1 << 28;
 
 /// A whole scene file, as parsed (nothing checked beyond the types yet; [`SceneFile::build`]
 /// checks the rest).
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let scene = SceneFile::from_toml_str("[run]\nt_end = 1\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 1\n")?;
+/// assert_eq!((scene.sphere.len(), scene.plane.len(), scene.boundary), (1, 0, None));
+/// assert_eq!(scene.sphere[0].mass, 1.0); // the default, filled in when parsed
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
@@ -96,6 +104,13 @@ struct Origin {
 }
 
 /// `[run]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{RunTable, SceneFile};
+/// let scene = SceneFile::from_toml_str("[run]\nt_end = 5.0\nseed = 9\n")?;
+/// assert_eq!(scene.run, RunTable { t_end: 5.0, snapshot_every: None, seed: 9 });
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunTable {
@@ -110,6 +125,14 @@ pub struct RunTable {
 }
 
 /// `[boundary] kind`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{BoundaryKind, SceneFile};
+/// let scene = SceneFile::from_toml_str("[run]\nt_end = 1\n[boundary]\nkind = \"periodic\"\n")?;
+/// assert_eq!(scene.boundary.unwrap().kind, BoundaryKind::Periodic);
+/// assert_eq!(BoundaryKind::default(), BoundaryKind::Open);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BoundaryKind {
@@ -123,6 +146,15 @@ pub enum BoundaryKind {
 }
 
 /// `[boundary]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{BoundaryKind, SceneFile};
+/// let text = "[run]\nt_end = 1\n[boundary]\nkind = \"box\"\nlo = [0, 0, 0]\nhi = [5, 5, 5]\n";
+/// let boundary = SceneFile::from_toml_str(text)?.boundary.unwrap();
+/// assert_eq!((boundary.kind, boundary.hi), (BoundaryKind::Box, Some([5.0; 3])));
+/// assert_eq!(boundary.size, None); // for `periodic` only
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundaryTable {
@@ -141,6 +173,15 @@ pub struct BoundaryTable {
 }
 
 /// `[[material]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let text = "[run]\nt_end = 1\n[[material]]\nname = \"glass\"\n[[material]]\nname = \"glue\"\n";
+/// let scene = SceneFile::from_toml_str(text)?;
+/// let names: Vec<&str> = scene.material.iter().map(|m| m.name.as_str()).collect();
+/// assert_eq!(names, ["glass", "glue"]); // material 0 is the default
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialTable {
@@ -149,6 +190,14 @@ pub struct MaterialTable {
 }
 
 /// A response by name.
+///
+/// ```
+/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
+/// let scene = SceneFile::from_toml_str("[run]\nt_end = 1\n[effects]\nresponse = \"sticky\"\n")?;
+/// assert_eq!(scene.effects.response, ResponseKind::Sticky);
+/// assert_eq!(ResponseKind::default(), ResponseKind::Elastic);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ResponseKind {
@@ -175,6 +224,16 @@ impl ResponseKind {
 }
 
 /// `[effects]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
+/// let text = "[run]\nt_end = 1\n[effects]\nresponse = \"inelastic\"\nrestitution = 0.8\ntc = 1e-4\n";
+/// let effects = SceneFile::from_toml_str(text)?.effects;
+/// assert_eq!((effects.response, effects.restitution), (ResponseKind::Inelastic, Some(0.8)));
+/// assert_eq!(effects.tc, 1e-4);
+/// assert!(!effects.record_events && effects.pair.is_empty());
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EffectsTable {
@@ -199,6 +258,26 @@ pub struct EffectsTable {
 }
 
 /// `[[effects.pair]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
+/// let text = r#"
+///     [run]
+///     t_end = 1
+///     [[material]]
+///     name = "glue"
+///     [[material]]
+///     name = "glass"
+///     [[effects.pair]]
+///     a = "glue"
+///     b = "glue"
+///     response = "sticky"
+/// "#;
+/// let pair = &SceneFile::from_toml_str(text)?.effects.pair[0];
+/// assert_eq!((pair.a.as_str(), pair.b.as_str()), ("glue", "glue"));
+/// assert_eq!(pair.response, ResponseKind::Sticky);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PairTable {
@@ -221,6 +300,15 @@ fn one() -> f64 {
 }
 
 /// `[[sphere]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let scene = SceneFile::from_toml_str("[run]\nt_end = 1\n[[sphere]]\ncentre = [1, 2, 3]\nradius = 0.5\n")?;
+/// let s = &scene.sphere[0];
+/// assert_eq!((s.centre, s.velocity, s.radius), ([1.0, 2.0, 3.0], [0.0; 3], 0.5));
+/// assert_eq!((s.mass, s.material.as_deref()), (1.0, None)); // the defaults
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SphereTable {
@@ -240,6 +328,13 @@ pub struct SphereTable {
 }
 
 /// `[[generate]] kind`.
+///
+/// ```
+/// use spheresweep::io::scene_file::{GenerateKind, SceneFile};
+/// let text = "[run]\nt_end = 1\n[[generate]]\nkind = \"periodic_gas\"\nn = 10\nphi = 0.1\nradius = 0.5\n";
+/// assert_eq!(SceneFile::from_toml_str(text)?.generate[0].kind, GenerateKind::PeriodicGas);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum GenerateKind {
@@ -279,6 +374,29 @@ impl GenerateKind {
 
 /// `[[generate]]`: one block of generated spheres. Which fields apply depends on `kind`
 /// (docs/scene-format.md); a field that does not apply is an error.
+///
+/// ```
+/// use spheresweep::io::scene_file::{GenerateKind, SceneFile};
+/// let text = r#"
+///     [run]
+///     t_end = 1
+///     [[generate]]
+///     kind = "lattice"
+///     lo = [0, 0, 0]
+///     counts = [2, 2, 2]
+///     spacing = 1.5
+///     radius = 0.5
+/// "#;
+/// let scene = SceneFile::from_toml_str(text)?;
+/// let block = &scene.generate[0];
+/// assert_eq!((block.kind, block.counts, block.n), (GenerateKind::Lattice, Some([2, 2, 2]), None));
+/// assert_eq!(scene.build()?.0.spheres.len(), 8);
+/// // A field of another kind is refused when built, naming it.
+/// let wrong = SceneFile::from_toml_str(&format!("{text}    phi = 0.3\n"))?;
+/// let message = wrong.build().unwrap_err().to_string();
+/// assert!(message.contains("`phi` does not apply to kind = \"lattice\""));
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GenerateTable {
@@ -377,6 +495,15 @@ impl GenerateTable {
 }
 
 /// `[[plane]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let text = "[run]\nt_end = 1\n[[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 2]\n";
+/// let scene = SceneFile::from_toml_str(text)?;
+/// assert_eq!(scene.plane[0].normal, [0.0, 0.0, 2.0]); // as written
+/// assert_eq!(scene.build()?.0.planes[0].shape.normal().z, 1.0); // normalised when built
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlaneTable {
@@ -390,6 +517,14 @@ pub struct PlaneTable {
 }
 
 /// `[[cylinder]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let text = "[run]\nt_end = 1\n[[cylinder]]\np1 = [3, 0, 0]\np2 = [3, 0, 1]\nradius = 1\n";
+/// let (world, _) = SceneFile::from_toml_str(text)?.build()?;
+/// assert_eq!(world.cylinders[0].shape.axis().to_array(), [0.0, 0.0, 1.0]);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CylinderTable {
@@ -405,6 +540,14 @@ pub struct CylinderTable {
 }
 
 /// `[[container]]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let text = "[run]\nt_end = 1\n[[container]]\ncentre = [0, 0, 0]\nradius = -1\n";
+/// let err = SceneFile::from_toml_str(text)?.build().unwrap_err();
+/// assert_eq!(err.to_string(), "line 5: container 0: container radius is negative");
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContainerTable {
@@ -418,6 +561,13 @@ pub struct ContainerTable {
 }
 
 /// How a run goes, from `[run]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let (_, run) = SceneFile::from_toml_str("[run]\nt_end = 3\nsnapshot_every = 0.5\n")?.build()?;
+/// assert_eq!((run.t_end, run.snapshot_every, run.seed), (3.0, Some(0.5), 0));
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSettings {
     /// End time.
@@ -430,6 +580,16 @@ pub struct RunSettings {
 
 /// Why a scene file could not be read or built. Its message starts with the file (when read
 /// from one) and the line (when known), then names the item and the field.
+///
+/// ```
+/// use spheresweep::io::scene_file::{SceneFile, SceneFileError};
+/// let text = "[run]\nt_end = 1\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 1\nmaterial = \"rubber\"\n";
+/// let err = SceneFile::from_toml_str(text)?.build().unwrap_err();
+/// assert!(matches!(&err, SceneFileError::Item { line: Some(6), item, .. } if item == "sphere 0"));
+/// let message = r#"line 6: sphere 0: material "rubber" is not declared (declared: "default")"#;
+/// assert_eq!(err.to_string(), message);
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum SceneFileError {
@@ -558,6 +718,14 @@ impl SceneFile {
     ///
     /// # Errors
     /// [`SceneFileError::Syntax`] naming the line, column and key.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// assert_eq!(SceneFile::from_toml_str("[run]\nt_end = 2\n")?.run.t_end, 2.0);
+    /// let err = SceneFile::from_toml_str("[run]\n").unwrap_err(); // t_end is required
+    /// assert!(err.to_string().contains("t_end"));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn from_toml_str(text: &str) -> Result<Self, SceneFileError> {
         Self::toml(text, None)
     }
@@ -566,6 +734,14 @@ impl SceneFile {
     ///
     /// # Errors
     /// [`SceneFileError::Syntax`] naming the line, column and key.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let json = r#"{"run": {"t_end": 1}, "sphere": [{"centre": [0, 0, 0], "radius": 1}]}"#;
+    /// let scene = SceneFile::from_json_str(json)?;
+    /// assert_eq!((scene.run.t_end, scene.sphere.len()), (1.0, 1));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn from_json_str(text: &str) -> Result<Self, SceneFileError> {
         Self::json(text, None)
     }
@@ -575,6 +751,20 @@ impl SceneFile {
     ///
     /// # Errors
     /// [`SceneFileError::Read`] naming the path, or a parse error prefixed with it.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let name = format!("spheresweep-doc-{}.json", std::process::id());
+    /// let path = std::env::temp_dir().join(name);
+    /// std::fs::write(&path, r#"{"run": {"t_end": 4}}"#).unwrap();
+    /// let scene = SceneFile::from_path(&path); // read as JSON: the name ends in .json
+    /// std::fs::remove_file(&path).unwrap();
+    /// assert_eq!(scene?.run.t_end, 4.0);
+    /// let missing = std::path::Path::new("/no/such/scene.toml");
+    /// let missing = SceneFile::from_path(missing).unwrap_err();
+    /// assert!(missing.to_string().starts_with("cannot read /no/such/scene.toml"));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn from_path(path: &Path) -> Result<Self, SceneFileError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneFileError::Read {
             path: path.to_path_buf(),
@@ -616,6 +806,25 @@ impl SceneFile {
     /// `[[generate]]` block's count, read without generating anything, so that a caller can
     /// refuse a scene too large for memory before it is built. `None` if a block's count is
     /// missing or the total overflows (`build` then names the block).
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let text = r#"
+    ///     [run]
+    ///     t_end = 1
+    ///     [[sphere]]
+    ///     centre = [0, 0, -5]
+    ///     radius = 0.5
+    ///     [[generate]]
+    ///     kind = "lattice"
+    ///     lo = [0, 0, 0]
+    ///     counts = [10, 10, 10]
+    ///     spacing = 1.5
+    ///     radius = 0.5
+    /// "#;
+    /// assert_eq!(SceneFile::from_toml_str(text)?.sphere_count(), Some(1 + 1000)); // nothing generated yet
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn sphere_count(&self) -> Option<usize> {
         self.generate
             .iter()
@@ -623,6 +832,12 @@ impl SceneFile {
     }
 
     /// The file this scene was read from, if any.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// assert_eq!(SceneFile::from_toml_str("[run]\nt_end = 1\n")?.path(), None); // not read from a file
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn path(&self) -> Option<&Path> {
         self.origin.file.as_deref()
     }
@@ -716,6 +931,19 @@ impl SceneFile {
     /// Names the items of the file behind an error of [`Simulation::new`] or
     /// [`World::validate`] on the world [`build`](Self::build) made (overlapping spheres are
     /// named by their `[[sphere]]` or `[[generate]]` entry).
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// use spheresweep::sim::Simulation;
+    /// let text = "[run]\nt_end = 1\n\
+    ///     [[sphere]]\ncentre = [0, 0, 0]\nradius = 1\n\
+    ///     [[sphere]]\ncentre = [1, 0, 0]\nradius = 1\n";
+    /// let scene = SceneFile::from_toml_str(text)?;
+    /// let (world, _) = scene.build()?; // overlaps are the engine's to find
+    /// let err = scene.locate(Simulation::new(world).unwrap_err());
+    /// assert!(err.to_string().starts_with("line 3: sphere 0 and sphere 1: spheres 0 and 1 overlap"));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn locate(&self, err: SimError) -> SceneFileError {
         match &err {
             SimError::Overlap { a, b, .. } => {
@@ -751,6 +979,17 @@ impl SceneFile {
     /// # Errors
     /// As [`build`](Self::build), and [`Simulation::new`]'s errors through
     /// [`locate`](Self::locate).
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let text = "[run]\nt_end = 2\n\
+    ///     [[sphere]]\ncentre = [0, 0, 3]\nvelocity = [0, 0, -1]\nradius = 1\n\
+    ///     [[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n";
+    /// let (mut sim, run) = SceneFile::from_toml_str(text)?.start()?;
+    /// sim.advance_to(run.t_end)?;
+    /// assert_eq!(sim.stats().wall_collisions, 1); // the floor at t = 2
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn start(&self) -> Result<(Simulation, RunSettings), SceneFileError> {
         let (world, run) = self.build()?;
         let sim = Simulation::new(world).map_err(|e| self.locate(e))?;
@@ -763,6 +1002,17 @@ impl SceneFile {
     ///
     /// # Errors
     /// A [`SceneFileError`] naming the item, the field and (for TOML) the line.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// use spheresweep::sim::Boundary;
+    /// let text = "[run]\nt_end = 1\n[boundary]\nkind = \"periodic\"\n\
+    ///     [[generate]]\nkind = \"periodic_gas\"\nn = 108\nphi = 0.2\nradius = 0.5\n";
+    /// let (world, _) = SceneFile::from_toml_str(text)?.build()?;
+    /// assert_eq!(world.spheres.len(), 108);
+    /// assert!(matches!(world.boundary, Boundary::Periodic { size } if size.x > 0.0)); // set by the gas
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
     pub fn build(&self) -> Result<(World, RunSettings), SceneFileError> {
         let run = self.run_settings()?;
         let materials = self.materials()?;
