@@ -83,9 +83,16 @@ pub fn model(pair: &Pair, mode: Accuracy, t_max: f64) -> Model {
     let dt_ref =
         (2.0 * K * U64 * x * speed + 2.0 * dq_ref.sqrt() + 2.0 * t * K * U64 * a) / (2.0 * a);
     let dt = root_dt(u, dq_mode, db, da, dc) + dt_ref + U32 * t;
+    // Touching or overlapping at t = 0 with |b| within its rounding: the contact policy
+    // decides hit (t = 0) or miss by the sign of b alone (found by the `kernels` fuzz target:
+    // a sphere centred on a zero-radius cylinder's axis, moving across it).
+    let in_contact = match side {
+        Side::Exterior => c <= dc,
+        Side::Interior => c >= -dc,
+    };
     let ambiguous = q.abs() <= dq
         || a <= da
-        || (b.abs() <= db && c.abs() <= dc)
+        || (b.abs() <= db && in_contact)
         || t_ref.is_some_and(|t| (t - t_max).abs() <= dt);
     Model {
         ambiguous,
