@@ -259,8 +259,7 @@ pub fn kernels(data: &[u8]) {
                     m.ambiguous,
                     "{mode}: hit/miss differs outside the band: reference {r:?}, kernel {k:?} \
                      (q = {:e}, δq = {:e})\n{pair:?}",
-                    m.q,
-                    m.dq
+                    m.q, m.dq
                 ),
             }
         }
