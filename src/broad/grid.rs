@@ -37,8 +37,10 @@
 //!    dense: there, larger cells hold only a few more spheres.
 //! 4. **Keys**: sphere `i` goes to the cell holding its box's `lo` corner, `f(lo)` per axis,
 //!    where `f(x) = clamp(floor((x - origin) / s), 0, cells - 1)`. It is *oversize* iff its box
-//!    touches more than two cells on some axis, `f(hi) > f(lo) + 1`. That is the case whenever
-//!    its extent exceeds `s`, and for clamped giants. Oversize spheres get the key one past the
+//!    touches more than two cells on some axis, `f(hi) > f(lo) + 1`: never for a box no wider
+//!    than `s` (up to rounding), always for one wider than `2s` unless clamping into a border
+//!    cell keeps it within two cells, and sometimes in between; the proof below rests on this
+//!    definition alone. Oversize spheres get the key one past the
 //!    last cell. Unless the store is in grid order (see below), the boxes are kept as 32-byte
 //!    records.
 //! 5. **Sort**, iterating the previous build's `order`. The keys are first gathered into that
