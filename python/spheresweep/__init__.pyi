@@ -24,7 +24,7 @@ KIND_CONTAINER: int
 
 Accuracy = Literal["textbook", "stable", "double"]
 ArrayLike = npt.ArrayLike
-Vector3 = Union[Sequence[float], npt.NDArray[np.floating[Any]]]
+Vector3 = Union[Sequence[float], npt.NDArray[np.floating[Any]], npt.NDArray[np.integer[Any]]]
 F32 = npt.NDArray[np.float32]
 F64 = npt.NDArray[np.float64]
 
@@ -33,9 +33,10 @@ class Spheres:
 
     ``centres`` and ``velocities`` are ``(N, 3)``, ``radii`` and ``masses`` ``(N,)`` (every
     mass 1 without it). float32 arrays are read in place at any strides; float64 (or any other
-    floating dtype) is converted to float32 once, rounding to nearest; lists go through
-    ``numpy.asarray(x, dtype=float32)``. ``TypeError`` for a non-floating dtype, ``ValueError``
-    for a wrong shape, mismatched lengths or an invalid sphere (named by index and field).
+    floating or integer dtype) is converted to float32 once, rounding to nearest; lists of ints
+    or floats go through ``numpy.asarray(x, dtype=float32)``. ``TypeError`` for a dtype that is
+    not real numbers (bool, complex, ...), ``ValueError`` for a wrong shape, mismatched lengths
+    or an invalid sphere (named by index and field). Pickles to the same bits.
     """
 
     def __init__(
@@ -72,16 +73,22 @@ class Spheres:
         """Masses: a new float32 ``(N,)`` array."""
 
 class Plane:
-    """A static infinite plane through ``point`` with normal ``normal`` (any non-zero length)."""
+    """A static infinite plane through ``point`` with normal ``normal`` (any non-zero length,
+    normalised). Each vector is three real numbers (ints or floats, a sequence or an array),
+    rounded to float32. Pickles as the inputs given, so a rebuilt plane has the same bits."""
 
     def __init__(self, point: Vector3, normal: Vector3) -> None: ...
     @property
-    def point(self) -> Tuple[float, float, float]: ...
+    def point(self) -> Tuple[float, float, float]:
+        """A point of the plane, as given (in float32)."""
     @property
-    def normal(self) -> Tuple[float, float, float]: ...
+    def normal(self) -> Tuple[float, float, float]:
+        """The unit normal: the normal given, normalised (then rounded to float32)."""
 
 class Cylinder:
-    """A static infinite cylinder of ``radius`` around the line through ``p1`` and ``p2``."""
+    """A static infinite cylinder of ``radius`` around the line through ``p1`` and ``p2``.
+    Points and radius are real numbers (ints or floats), rounded to float32; pickles to the
+    same bits."""
 
     def __init__(self, p1: Vector3, p2: Vector3, radius: float) -> None: ...
     @property
@@ -92,7 +99,9 @@ class Cylinder:
     def radius(self) -> float: ...
 
 class Container:
-    """The inside of the sphere of ``radius`` around ``centre``; spheres move inside it."""
+    """The inside of the sphere of ``radius`` around ``centre``; spheres move inside it.
+    Centre and radius are real numbers (ints or floats), rounded to float32; pickles to the
+    same bits."""
 
     def __init__(self, centre: Vector3, radius: float) -> None: ...
     @property
@@ -136,7 +145,8 @@ def static_times(
     """Time of impact of every sphere with each shape: float32 ``(N, len(shapes))``."""
 
 class Scene:
-    """Spheres and the static shapes around them, for ``first_contacts`` and ``all_contacts``."""
+    """Spheres and the static shapes around them, for ``first_contacts`` and ``all_contacts``.
+    Pickles to the same bits (spheres and shapes)."""
 
     def __init__(
         self,

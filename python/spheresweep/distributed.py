@@ -91,66 +91,27 @@ def _check_t_max(t_max: float) -> float:
 
 
 # ---------------------------------------------------------------------------------------------
-# Static shapes travel as plain tuples (the binding's shape objects do not pickle).
+# Static shapes travel to the workers pickled: each pickles as its float32 inputs, so a worker's
+# copy has the same bits as the client's.
 
 
-def _shape_specs(shapes: Sequence[Any], name: str) -> list:
-    """Shapes as picklable ``(kind, args)`` tuples, rebuilt identically on the workers."""
+def _checked_shapes(shapes: Sequence[Any], name: str) -> list:
+    """``shapes`` as a list, each checked to be a ``Plane``, ``Cylinder`` or ``Container``."""
     ss = _native()
-    specs = []
-    for k, shape in enumerate(shapes):
-        if isinstance(shape, ss.Plane):
-            spec = ("plane", (tuple(shape.point), _plane_normal_argument(shape, f"{name}[{k}]")))
-        elif isinstance(shape, ss.Cylinder):
-            spec = ("cylinder", (tuple(shape.p1), tuple(shape.p2), float(shape.radius)))
-        elif isinstance(shape, ss.Container):
-            spec = ("container", (tuple(shape.centre), float(shape.radius)))
-        else:
+    checked = list(shapes)
+    for k, shape in enumerate(checked):
+        if not isinstance(shape, (ss.Plane, ss.Cylinder, ss.Container)):
             raise TypeError(
                 f"{name}[{k}]: expected a Plane, Cylinder or Container, got {type(shape).__name__}"
             )
-        specs.append(spec)
-    return specs
+    return checked
 
 
-def _plane_normal_argument(plane, label: str) -> tuple:
-    """A normal that rebuilds ``plane`` with the same unit normal bits.
-
-    The binding keeps the normalised normal; normalising it again may round differently. The
-    stored normal is tried first, then its neighbours one float32 step away in each component;
-    the first that reproduces the stored normal exactly is used.
-    """
+def _by_kind(shapes: list) -> tuple:
+    """Planes, cylinders and containers of ``shapes``, in their order within kinds."""
     ss = _native()
-    point = tuple(plane.point)
-    normal = np.array(plane.normal, dtype=np.float32)
-    target = tuple(normal.tolist())
-    candidates = [normal]
-    for axis in range(3):
-        for direction in (np.inf, -np.inf):
-            step = normal.copy()
-            step[axis] = np.nextafter(step[axis], np.float32(direction))
-            candidates.append(step)
-    for candidate in candidates:
-        if tuple(ss.Plane(point, candidate.tolist()).normal) == target:
-            return tuple(candidate.tolist())
-    raise ValueError(
-        f"{label}: the plane's unit normal {target} cannot be rebuilt exactly on a worker; "
-        "give its normal so that normalising it once more keeps it (e.g. an axis)"
-    )
-
-
-def _build_shapes(specs: list) -> tuple:
-    """Planes, cylinders and containers from ``_shape_specs``, in their order within kinds."""
-    ss = _native()
-    planes, cylinders, containers = [], [], []
-    for kind, args in specs:
-        if kind == "plane":
-            planes.append(ss.Plane(*args))
-        elif kind == "cylinder":
-            cylinders.append(ss.Cylinder(*args))
-        else:
-            containers.append(ss.Container(*args))
-    return planes, cylinders, containers
+    return tuple([s for s in shapes if isinstance(s, kind)]
+                 for kind in (ss.Plane, ss.Cylinder, ss.Container))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -220,16 +181,16 @@ def _pair_partition(frame, t_max, accuracy):
     return frame.assign(time=ss.zip_times(*sides, t_max=t_max, accuracy=accuracy))
 
 
-def _static_partition(frame, specs, t_max, accuracy):
+def _static_partition(frame, shapes, t_max, accuracy):
     """Each sphere's earliest contact with the shapes, as ``time, kind, index``."""
     ss = _native()
     n = len(frame)
     time = np.full(n, np.inf, dtype=np.float32)
     kind = np.zeros(n, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
-    if n and specs:
+    if n and shapes:
         spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
-        planes, cylinders, containers = _build_shapes(specs)
+        planes, cylinders, containers = _by_kind(shapes)
         ordered = planes + cylinders + containers  # the tie rule's order
         table = ss.static_times(spheres, ordered, t_max=t_max, accuracy=accuracy)
         column = np.argmin(table, axis=1)  # the first of equal times: plane, cylinder, ...
@@ -404,8 +365,8 @@ def static_contacts_parquet(
     container, then the lowest index. Output, staging and errors as :func:`zip_times_parquet`.
     """
     t_max = _check_t_max(t_max)
-    specs = _shape_specs(shapes, "shapes")
-    if not specs:
+    shapes = _checked_shapes(shapes, "shapes")
+    if not shapes:
         raise ValueError("shapes: no shapes given (a query against shapes needs at least one)")
     return _sharded_parquet(
         source,
@@ -413,7 +374,7 @@ def static_contacts_parquet(
         SPHERE_COLUMNS,
         ("time", "kind", "index"),
         _static_partition,
-        (specs, t_max, accuracy),
+        (shapes, t_max, accuracy),
         client,
         overwrite,
         split_row_groups,
@@ -591,11 +552,11 @@ class FirstContactTable:
         return f"{type(self).__name__}(<{len(self)} rows>, {self.plan!r})"
 
 
-def _local_scene(part, specs):
+def _local_scene(part, shapes):
     ss = _native()
     centres, velocities, radii, masses, members, owned = part
     spheres = ss.Spheres(centres, velocities, radii, masses)
-    planes, cylinders, containers = _build_shapes(specs)
+    planes, cylinders, containers = _by_kind(shapes)
     return ss.Scene(spheres, planes, cylinders, containers), members, owned
 
 
@@ -605,14 +566,14 @@ def _global_partners(kind, index, members):
     return np.where(spheres, members[np.where(spheres, index, 0)], index)
 
 
-def _local_all(part, specs, t_max, accuracy, geometry):
+def _local_all(part, shapes, t_max, accuracy, geometry):
     """One task: the contacts of one slab's scene that the slab owns, with global indices.
 
     A sphere pair is kept by the owner of its lower index (``sphere``, since the local scene
     lists its spheres in global order), a static contact by the sphere's owner.
     """
     ss = _native()
-    scene, members, owned = _local_scene(part, specs)
+    scene, members, owned = _local_scene(part, shapes)
     found = ss.all_contacts(scene, t_max=t_max, accuracy=accuracy, geometry=geometry)
     sphere = np.asarray(found.sphere, dtype=np.int64)
     keep = owned[sphere]
@@ -631,10 +592,10 @@ def _local_all(part, specs, t_max, accuracy, geometry):
     return out
 
 
-def _local_first(part, specs, t_max, accuracy, geometry):
+def _local_first(part, shapes, t_max, accuracy, geometry):
     """One task: the earliest contact of each sphere the slab owns, with global indices."""
     ss = _native()
-    scene, members, owned = _local_scene(part, specs)
+    scene, members, owned = _local_scene(part, shapes)
     found = ss.first_contacts(scene, t_max=t_max, accuracy=accuracy, geometry=geometry)
     kind = np.asarray(found.kind)[owned]
     index = np.asarray(found.index)[owned]
@@ -700,10 +661,10 @@ def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, co
     # Validated once on the client, so a bad sphere is named by its global index.
     ss = _native()
     ss.Scene(ss.Spheres(c, v, r, m), planes, cylinders, containers)
-    specs = (
-        _shape_specs(planes, "planes")
-        + _shape_specs(cylinders, "cylinders")
-        + _shape_specs(containers, "containers")
+    shapes = (
+        _checked_shapes(planes, "planes")
+        + _checked_shapes(cylinders, "cylinders")
+        + _checked_shapes(containers, "containers")
     )
     if partitions is None:
         partitions = max(1, sum(client.nthreads().values()))
@@ -712,7 +673,7 @@ def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, co
     )
     futures = _scatter_slabs(client, c, v, r, m, plan)
     results = client.gather(
-        client.map(task, futures, specs=specs, t_max=t_max, accuracy=accuracy,
+        client.map(task, futures, shapes=shapes, t_max=t_max, accuracy=accuracy,
                    geometry=geometry, pure=False)
     )
     return plan, results

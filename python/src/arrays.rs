@@ -1,8 +1,9 @@
 //! NumPy arrays in: the dtype and shape checks every entry point shares, each error naming the
 //! argument. Floating arrays of the target type are borrowed as they are (any strides: ndarray
-//! views read them in place); other floating dtypes are converted once by NumPy's `astype`
-//! (round to nearest, as Rust's `as f32`); arrays of any other dtype are a `TypeError`. Lists,
-//! tuples and scalars go through `numpy.asarray(x, dtype=<target>)`.
+//! views read them in place); other floating and integer dtypes (real numbers) are converted
+//! once by NumPy's `astype` (round to nearest, as Rust's `as f32`); arrays of any other dtype
+//! (boolean, complex, strings, objects) are a `TypeError`. Lists, tuples and scalars go through
+//! `numpy.asarray(x, dtype=<target>)`, so Python ints and floats alike are accepted.
 
 use numpy::ndarray::ArrayViewD;
 use numpy::{
@@ -86,11 +87,12 @@ fn check_shape(array: &Bound<'_, PyUntypedArray>, name: &str, expect: Expect) ->
     }
 }
 
-/// A floating array argument as a read-only array of `T` (`f32` or `f64`): borrowed when its
-/// dtype is `T`, converted once otherwise.
+/// A real-number array argument as a read-only array of `T` (`f32` or `f64`): borrowed when
+/// its dtype is `T`, converted once otherwise (floating or integer dtypes).
 ///
 /// # Errors
-/// `TypeError` if its dtype is not floating; `ValueError` if its shape is not `expect`.
+/// `TypeError` if its dtype is neither floating nor integer; `ValueError` if its shape is not
+/// `expect`.
 pub(crate) fn floats<'py, T: Element>(
     obj: &Bound<'py, PyAny>,
     name: &str,
@@ -99,9 +101,9 @@ pub(crate) fn floats<'py, T: Element>(
     let py = obj.py();
     let array = as_ndarray(obj, name, Some(T::get_dtype(py).into_any()))?;
     let dtype = array.dtype();
-    if dtype.kind() != b'f' {
+    if !matches!(dtype.kind(), b'f' | b'i' | b'u') {
         return Err(PyTypeError::new_err(format!(
-            "{name}: dtype {} is not a floating type (float32 or float64)",
+            "{name}: dtype {} is not a real number type (float or integer)",
             dtype.str()?
         )));
     }

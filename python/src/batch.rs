@@ -207,24 +207,58 @@ impl Spheres {
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
         self.store.masses().to_vec().into_pyarray(py)
     }
+
+    /// Pickling: the class and its float32 columns, which rebuild the same bits.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (
+        Bound<'py, pyo3::types::PyType>,
+        (
+            Bound<'py, PyArray2<f32>>,
+            Bound<'py, PyArray2<f32>>,
+            Bound<'py, PyArray1<f32>>,
+            Bound<'py, PyArray1<f32>>,
+        ),
+    ) {
+        let (py, me) = (slf.py(), slf.get());
+        (
+            slf.get_type(),
+            (
+                me.centres(py),
+                me.velocities(py),
+                me.radii(py),
+                me.masses(py),
+            ),
+        )
+    }
 }
 
-/// A static infinite plane through `point` with normal `normal` (any non-zero length; the
-/// sphere is kept on the side the normal points to). `ValueError` for NaN, infinite or
-/// zero-length input, naming the field.
+/// A static infinite plane through `point` with normal `normal` (any non-zero length,
+/// normalised here; the sphere is kept on the side the normal points to). Each vector is three
+/// real numbers (ints or floats, as a sequence or a NumPy array), rounded to float32.
+/// `ValueError` for NaN, infinite or zero-length input, naming the field. Pickles as the
+/// float32 inputs, so a rebuilt plane has the same bits.
 #[pyclass(frozen, module = "spheresweep._native")]
 #[derive(Clone)]
 pub struct Plane {
     pub(crate) shape: spheresweep::Plane,
+    /// The normal as given (rounded to float32), before normalising: what pickling rebuilds
+    /// from, since normalising a normalised vector can change its last bit.
+    given_normal: [f32; 3],
 }
 
 #[pymethods]
 impl Plane {
     #[new]
     fn new(point: &Bound<'_, PyAny>, normal: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let shape = spheresweep::Plane::new(vector3(point, "point")?, vector3(normal, "normal")?)
-            .map_err(value_error)?;
-        Ok(Self { shape })
+        let given_normal = vector3(normal, "normal")?;
+        let shape =
+            spheresweep::Plane::new(vector3(point, "point")?, given_normal).map_err(value_error)?;
+        Ok(Self {
+            shape,
+            given_normal,
+        })
     }
 
     /// A point of the plane, as given.
@@ -233,10 +267,23 @@ impl Plane {
         self.shape.point().into()
     }
 
-    /// The normal, as given.
+    /// The unit normal: the normal given, normalised (then rounded to float32).
     #[getter]
     fn normal(&self) -> (f32, f32, f32) {
         self.shape.normal().into()
+    }
+
+    /// Pickling: the class and the float32 point and normal as given, which rebuild the same
+    /// bits (the normalised normal would not always: re-normalising can move its last bit).
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (
+        Bound<'py, pyo3::types::PyType>,
+        ((f32, f32, f32), (f32, f32, f32)),
+    ) {
+        let me = slf.get();
+        (slf.get_type(), (me.point(), me.given_normal.into()))
     }
 
     fn __repr__(&self) -> String {
@@ -249,7 +296,9 @@ impl Plane {
 }
 
 /// A static infinite cylinder of radius `radius` around the line through `p1` and `p2`
-/// (`p1 != p2`). `ValueError` for NaN, infinite or negative input, or `p1 == p2`.
+/// (`p1 != p2`). Points are three real numbers each and the radius a real number (ints or
+/// floats), rounded to float32. `ValueError` for NaN, infinite or negative input, or
+/// `p1 == p2`. Pickles as the float32 inputs (same bits when rebuilt).
 #[pyclass(frozen, module = "spheresweep._native")]
 #[derive(Clone)]
 pub struct Cylinder {
@@ -285,6 +334,18 @@ impl Cylinder {
         self.shape.radius()
     }
 
+    /// Pickling: the class and the float32 inputs, which rebuild the same bits.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (
+        Bound<'py, pyo3::types::PyType>,
+        ((f32, f32, f32), (f32, f32, f32), f32),
+    ) {
+        let me = slf.get();
+        (slf.get_type(), (me.p1(), me.p2(), me.radius()))
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Cylinder(p1={:?}, p2={:?}, radius={:?})",
@@ -296,7 +357,9 @@ impl Cylinder {
 }
 
 /// A static spherical container: the inside of the sphere of `radius` around `centre`; every
-/// sphere is meant to move inside it. `ValueError` for NaN, infinite or negative input.
+/// sphere is meant to move inside it. The centre is three real numbers and the radius a real
+/// number (ints or floats), rounded to float32. `ValueError` for NaN, infinite or negative
+/// input. Pickles as the float32 inputs (same bits when rebuilt).
 #[pyclass(frozen, module = "spheresweep._native")]
 #[derive(Clone)]
 pub struct Container {
@@ -322,6 +385,15 @@ impl Container {
     #[getter]
     fn radius(&self) -> f32 {
         self.shape.radius()
+    }
+
+    /// Pickling: the class and the float32 inputs, which rebuild the same bits.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (Bound<'py, pyo3::types::PyType>, ((f32, f32, f32), f32)) {
+        let me = slf.get();
+        (slf.get_type(), (me.centre(), me.radius()))
     }
 
     fn __repr__(&self) -> String {

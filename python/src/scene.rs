@@ -134,6 +134,20 @@ impl Scene {
         self.scene.spheres.len()
     }
 
+    /// Pickling: the class, the spheres and the shapes as given (each pickles to the same
+    /// bits), so a rebuilt scene answers every query bit for bit as this one.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (
+        Bound<'py, pyo3::types::PyType>,
+        (Spheres, Py<PyTuple>, Py<PyTuple>, Py<PyTuple>),
+    ) {
+        let (py, me) = (slf.py(), slf.get());
+        let (p, c, k) = me.shapes(py);
+        (slf.get_type(), (me.spheres(), p, c, k))
+    }
+
     fn __repr__(&self) -> String {
         let s = &self.scene;
         format!(

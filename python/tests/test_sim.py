@@ -130,7 +130,7 @@ def test_simulation_errors():
     with pytest.raises(ValueError, match="restitution: 1.5 is not in"):
         ss.Simulation.from_spheres([[0, 0, 0]], [[0, 0, 0]], [1.0], restitution=1.5)
     with pytest.raises(TypeError, match="centres: dtype"):
-        ss.Simulation.from_spheres(np.zeros((1, 3), int), [[0, 0, 0]], [1.0])
+        ss.Simulation.from_spheres(np.zeros((1, 3), bool), [[0, 0, 0]], [1.0])
     with pytest.raises(OSError, match="no-such-scene.toml"):
         ss.Simulation.from_scene_file("no-such-scene.toml")
 
