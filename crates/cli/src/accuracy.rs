@@ -50,9 +50,25 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
     )?);
     bar.set_message("families against the exact oracle, then throughput");
-    let report = study::run(args.cases, args.seed, |done, _| {
-        bar.set_position(done as u64)
-    });
+    // The study cannot stop half-way: Ctrl-C or SIGTERM ends the process at once, before
+    // anything is written. The handler is in place before the study is announced.
+    crate::interrupt::install()?;
+    eprintln!(
+        "accuracy: the study, {} pairs per family, then throughput",
+        args.cases
+    );
+    let report = crate::interrupt::exit_if_requested_during(
+        &format!(
+            "during the study: nothing written, {} and {} untouched",
+            args.out.display(),
+            svg.display()
+        ),
+        || {
+            study::run(args.cases, args.seed, |done, _| {
+                bar.set_position(done as u64)
+            })
+        },
+    )?;
     bar.finish_and_clear();
     let svg_name = svg
         .file_name()

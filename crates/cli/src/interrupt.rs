@@ -42,3 +42,28 @@ impl std::fmt::Display for Interrupted {
 }
 
 impl std::error::Error for Interrupted {}
+
+/// Runs `work`, which cannot poll and writes nothing until it returns (the accuracy study,
+/// the benchmarks): if an interruption is asked for meanwhile, a watcher prints
+/// `interrupted {what}` and ends the process with [`EXIT_CODE`] at once, so no output of
+/// `work` exists yet and earlier files are untouched. Once `work` has returned, a signal is
+/// left to the caller's next [`requested`] check.
+pub fn exit_if_requested_during<T>(what: &str, work: impl FnOnce() -> T) -> Result<T, String> {
+    install()?;
+    let done = AtomicBool::new(false);
+    let value = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::SeqCst) {
+                if requested() {
+                    eprintln!("interrupted {what}");
+                    std::process::exit(i32::from(EXIT_CODE));
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+        });
+        let value = work();
+        done.store(true, Ordering::SeqCst);
+        value
+    });
+    Ok(value)
+}

@@ -52,7 +52,14 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => demo::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
-        Command::Bench(args) => bench::run(&args),
+        // The benchmarks cannot stop half-way; they write no file, so an interruption ends
+        // them at once.
+        Command::Bench(args) => interrupt::exit_if_requested_during(
+            "the benchmark (it writes no file; the figures printed so far stand)",
+            || bench::run(&args),
+        )
+        .map_err(Into::into)
+        .and_then(|result| result),
         Command::Run(args) => run::run(&args),
         Command::Query(args) => query::run(&args),
         Command::Render(args) => render::run(&args),

@@ -339,3 +339,72 @@ fn sigterm_stops_render_of_a_sequence() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `accuracy` cannot stop its study half-way: SIGTERM ends it at once with 130, saying that
+/// nothing was written, and the earlier report and picture are untouched.
+#[test]
+fn sigterm_stops_accuracy_before_anything_is_written() {
+    let dir = fresh_dir("accuracy-term");
+    let (report, svg) = (dir.join("accuracy.md"), dir.join("accuracy.svg"));
+    std::fs::write(&report, "earlier report").unwrap();
+    std::fs::write(&svg, "earlier picture").unwrap();
+    let mut child = Command::new(bin())
+        .args(["accuracy", "--cases", "1000000", "--out"])
+        .arg(&report)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // It says when the study starts (the handler is installed by then).
+    let mut stderr = child.stderr.take().unwrap();
+    let mut first = [0u8; 9];
+    use std::io::Read;
+    stderr.read_exact(&mut first).unwrap();
+    assert_eq!(&first, b"accuracy:");
+    std::thread::sleep(Duration::from_millis(300));
+    signal(&child, "TERM");
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    stderr.read_to_string(&mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted during the study: nothing written"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&report).unwrap(), "earlier report");
+    assert_eq!(std::fs::read_to_string(&svg).unwrap(), "earlier picture");
+    assert!(
+        temporary_files(&dir).is_empty(),
+        "{:?}",
+        temporary_files(&dir)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `bench` is ended at once by SIGINT, with 130 and a message.
+#[test]
+fn sigint_stops_bench() {
+    let mut child = Command::new(bin())
+        .args(["bench", "--quick"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "bench ended within 0.5 s"
+    );
+    signal(&child, "INT");
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    use std::io::Read;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted the benchmark"), "{err}");
+}
