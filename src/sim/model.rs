@@ -282,6 +282,12 @@ impl World {
                     "material pair {i}: response `none` applies to a whole scene, not one pair"
                 )));
             }
+            if fx.response == Response::None {
+                return Err(SimError::Effects(format!(
+                    "material pair {i}: the scene's response is `none` (contacts reported \
+                     only), which a pair cannot change"
+                )));
+            }
         }
         if !(fx.tc.is_finite() && fx.tc >= 0.0) {
             return Err(SimError::Effects(format!(
@@ -297,5 +303,72 @@ impl World {
             )));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world(response: Response, pairs: Vec<MaterialPair>, tc: f64) -> World {
+        World {
+            spheres: vec![SphereState {
+                centre: DVec3::ZERO,
+                velocity: DVec3::X,
+                radius: 1.0,
+                mass: 1.0,
+                material: 0,
+            }],
+            materials: vec!["a".into(), "b".into()],
+            effects: Effects {
+                response,
+                pairs,
+                tc,
+                ..Effects::default()
+            },
+            ..World::default()
+        }
+    }
+
+    /// Effects out of range are refused naming what is wrong; `none` is a whole scene's only.
+    #[test]
+    fn effects_are_checked_once() {
+        let pair = |response| MaterialPair {
+            a: 0,
+            b: 1,
+            response,
+        };
+        let sticky = pair(Response::Sticky);
+        assert!(
+            world(Response::Elastic, vec![sticky], 0.0)
+                .validate()
+                .is_ok()
+        );
+        for (w, message) in [
+            (
+                world(Response::Elastic, vec![pair(Response::None)], 0.0),
+                "material pair 0: response `none` applies to a whole scene",
+            ),
+            (
+                world(Response::None, vec![sticky], 0.0),
+                "material pair 0: the scene's response is `none`",
+            ),
+            (
+                world(Response::Inelastic { restitution: 1.5 }, vec![], 0.0),
+                "response: restitution 1.5 is not in [0, 1]",
+            ),
+            (
+                world(
+                    Response::Elastic,
+                    vec![MaterialPair { b: 2, ..sticky }],
+                    0.0,
+                ),
+                "material pair 0: material 2 does not exist (2 materials)",
+            ),
+            (world(Response::Elastic, vec![], -1.0), "tc = -1 must be"),
+        ] {
+            let e = w.validate().unwrap_err().to_string();
+            assert!(e.contains(message), "{e}");
+        }
     }
 }
