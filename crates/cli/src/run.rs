@@ -309,7 +309,17 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             bytes as u64,
         )?;
     }
-    let (world, mut settings) = scene.build()?;
+    if !args.quiet
+        && let Some(n) = scene.sphere_count()
+        && n >= 100_000
+    {
+        eprintln!("{}: building {n} spheres…", args.scene.display());
+    }
+    // Building the world and the engine cannot poll (a large generated scene takes seconds):
+    // an interruption meanwhile ends the process at once, before any output exists.
+    let building = "while the scene was built: nothing written";
+    let (world, mut settings) =
+        crate::interrupt::exit_if_requested_during(building, || scene.build())??;
     if let Some(t) = args.t_end {
         settings.t_end = t;
     }
@@ -361,7 +371,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             }
         }
     );
-    let mut sim = match &resume {
+    let mut sim = crate::interrupt::exit_if_requested_during(building, || match &resume {
         Some(c) => Simulation::restore(world, &c.sim).map_err(|e| {
             format!(
                 "{}: {e} (resume with the scene and options the checkpoint was written with)",
@@ -369,9 +379,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                     .as_ref()
                     .map_or(String::new(), |p| p.display().to_string())
             )
-        })?,
-        None => Simulation::new(world).map_err(|e| scene.locate(e))?,
-    };
+        }),
+        None => Simulation::new(world).map_err(|e| scene.locate(e).to_string()),
+    })??;
 
     // The outputs: checked, then staged in the output directory.
     let dir = args.out.clone().unwrap_or_else(|| default_out(&args.scene));
@@ -445,6 +455,26 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let first = resume.as_ref().map_or(0, |c| c.next_stop as usize);
     let mut next_checkpoint = args.checkpoint_every.map(|c| sim.time() + c);
     let mut checkpoints = 0usize;
+    // The run's state as a checkpoint that continues with stop `next_stop` (the same stop
+    // when interrupted inside it, the next one at a periodic checkpoint).
+    macro_rules! run_checkpoint {
+        ($next_stop:expr) => {
+            RunCheckpoint {
+                next_stop: $next_stop,
+                frames: frames as u64,
+                logged,
+                ke0,
+                p0,
+                momentum_scale,
+                simulated: simulated.as_secs_f64(),
+                trajectory: trajectory
+                    .as_mut()
+                    .map_or(Ok(Vec::new()), Staged::contents)?,
+                events: events.as_mut().map_or(Ok(Vec::new()), Staged::contents)?,
+                sim: sim.checkpoint(),
+            }
+        };
+    }
     for (k, (stop, snapshot)) in stops(t_end, settings.snapshot_every)
         .into_iter()
         .enumerate()
@@ -481,20 +511,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 ))
                 .into());
             }
-            let c = RunCheckpoint {
-                next_stop: k as u64,
-                frames: frames as u64,
-                logged,
-                ke0,
-                p0,
-                momentum_scale,
-                simulated: simulated.as_secs_f64(),
-                trajectory: trajectory
-                    .as_mut()
-                    .map_or(Ok(Vec::new()), Staged::contents)?,
-                events: events.as_mut().map_or(Ok(Vec::new()), Staged::contents)?,
-                sim: sim.checkpoint(),
-            };
+            let c = run_checkpoint!(k as u64);
             crate::output::write_atomic(&checkpoint_path, &c.to_bytes())?;
             return Err(crate::interrupt::Interrupted(format!(
                 "{done}; wrote {} ({frames} frames and {logged} events so far); resume with \
@@ -514,20 +531,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             && sim.time() >= at
             && stop < t_end
         {
-            let c = RunCheckpoint {
-                next_stop: k as u64 + 1,
-                frames: frames as u64,
-                logged,
-                ke0,
-                p0,
-                momentum_scale,
-                simulated: simulated.as_secs_f64(),
-                trajectory: trajectory
-                    .as_mut()
-                    .map_or(Ok(Vec::new()), Staged::contents)?,
-                events: events.as_mut().map_or(Ok(Vec::new()), Staged::contents)?,
-                sim: sim.checkpoint(),
-            };
+            let c = run_checkpoint!(k as u64 + 1);
             crate::output::write_atomic(&checkpoint_path, &c.to_bytes())?;
             checkpoints += 1;
             next_checkpoint = Some(sim.time() + every);

@@ -3,30 +3,13 @@
 //! was done and exits with 130; resumed from that checkpoint it ends byte for byte as a run
 //! never interrupted. `demo` and `query` stop the same way.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
-fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_spheresweep")
-}
-
-fn scene() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/hard_sphere_gas.toml")
-}
-
-fn run(out: &Path, extra: &[&str]) -> Child {
-    Command::new(bin())
-        .arg("run")
-        .arg(scene())
-        .args(["--t-end", "40", "--snapshots", "4", "--quiet", "--out"])
-        .arg(out)
-        .args(extra)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs")
-}
+use common::{bin, fresh_dir, spawn_gas_run};
 
 fn signal(child: &Child, name: &str) {
     let ok = Command::new("kill")
@@ -72,18 +55,11 @@ fn temporary_files(dir: &Path) -> Vec<String> {
         .collect()
 }
 
-fn fresh_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 #[test]
 fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
     let dir = fresh_dir("sigterm");
     let (full, cut) = (dir.join("full"), dir.join("cut"));
-    let out = run(&full, &[]).wait_with_output().unwrap();
+    let out = spawn_gas_run(&full, &[]).wait_with_output().unwrap();
     assert!(
         out.status.success(),
         "{}",
@@ -95,7 +71,7 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
     for name in ["trajectory.xyz", "summary.json"] {
         std::fs::write(cut.join(name), b"an earlier run").unwrap();
     }
-    let mut child = run(&cut, &["--checkpoint-every", "2"]);
+    let mut child = spawn_gas_run(&cut, &["--checkpoint-every", "2"]);
     let stopped = interrupt_once(&mut child, &cut.join("checkpoint.bin"), "TERM");
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
@@ -120,7 +96,7 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
     );
 
     let ckpt = cut.join("checkpoint.bin");
-    let resumed = run(
+    let resumed = spawn_gas_run(
         &cut,
         &[
             "--checkpoint-every",
@@ -161,7 +137,7 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
     let dir = fresh_dir("sigint");
     std::fs::write(dir.join("summary.json"), b"an earlier run").unwrap();
     // The run has started simulating once its staged trajectory exists.
-    let mut child = run(&dir, &[]);
+    let mut child = spawn_gas_run(&dir, &[]);
     let tmp = |dir: &Path| !temporary_files(dir).is_empty();
     while !tmp(&dir) {
         assert!(child.try_wait().unwrap().is_none(), "the run ended first");
@@ -191,7 +167,7 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
 #[test]
 fn sigterm_stops_demo_without_writing_a_picture() {
     let dir = fresh_dir("demo-term");
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["demo", "--quiet", "--out"])
         .arg(&dir)
         .stdout(Stdio::piped())
@@ -230,7 +206,7 @@ fn sigterm_stops_a_run_of_short_steps() {
     )
     .unwrap();
     let out = dir.join("out");
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["run", "--quiet", "--checkpoint-every", "5", "--out"])
         .arg(&out)
         .arg(&scene)
@@ -265,7 +241,7 @@ fn sigterm_stops_query_between_chunks() {
     std::fs::write(&input, text).unwrap();
     let output = dir.join("times.csv");
     std::fs::write(&output, b"an earlier query").unwrap();
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["query", "--chunk-rows", "1", "--out"])
         .arg(&output)
         .arg(&input)
@@ -305,7 +281,7 @@ fn sigterm_stops_render_of_a_sequence() {
         "[run]\nt_end = 300\nsnapshot_every = 1\n\n[boundary]\nkind = \"periodic\"\n\n[[generate]]\nkind = \"periodic_gas\"\nn = 64\nphi = 0.2\nradius = 0.5\ntemperature = 1.0\n",
     )
     .unwrap();
-    let ran = Command::new(bin())
+    let ran = bin()
         .args(["run", "--quiet", "--out"])
         .arg(dir.join("run"))
         .arg(&scene)
@@ -317,7 +293,7 @@ fn sigterm_stops_render_of_a_sequence() {
         String::from_utf8_lossy(&ran.stderr)
     );
     let pictures = dir.join("pictures");
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["render", "--out"])
         .arg(&pictures)
         .arg(dir.join("run/trajectory.xyz"))
@@ -348,7 +324,7 @@ fn sigterm_stops_accuracy_before_anything_is_written() {
     let (report, svg) = (dir.join("accuracy.md"), dir.join("accuracy.svg"));
     std::fs::write(&report, "earlier report").unwrap();
     std::fs::write(&svg, "earlier picture").unwrap();
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["accuracy", "--cases", "1000000", "--out"])
         .arg(&report)
         .stdout(Stdio::null())
@@ -384,7 +360,7 @@ fn sigterm_stops_accuracy_before_anything_is_written() {
 /// `bench` is ended at once by SIGINT, with 130 and a message.
 #[test]
 fn sigint_stops_bench() {
-    let mut child = Command::new(bin())
+    let mut child = bin()
         .args(["bench", "--quick"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -407,4 +383,46 @@ fn sigint_stops_bench() {
         .unwrap();
     assert_eq!(status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted the benchmark"), "{err}");
+}
+
+/// `run` of a scene of a million spheres, interrupted while the world and the engine are built
+/// (which cannot poll): it ends at once with 130, having written nothing.
+#[test]
+fn sigterm_while_a_large_scene_is_built_ends_at_once() {
+    let dir = fresh_dir("build-term");
+    let scene = dir.join("big.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1.0\n\n[boundary]\nkind = \"periodic\"\n\n[[generate]]\n\
+         kind = \"periodic_gas\"\nn = 1000000\nphi = 0.3\nradius = 0.5\ntemperature = 1.0\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let mut child = bin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // It says when the build starts (the handler is installed by then).
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    use std::io::{BufRead, Read};
+    stderr.read_line(&mut line).unwrap();
+    assert!(line.contains("building 1000000 spheres"), "{line}");
+    std::thread::sleep(Duration::from_millis(50));
+    signal(&child, "TERM");
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    stderr.read_to_string(&mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted while the scene was built: nothing written"),
+        "{err}"
+    );
+    assert!(!out.exists(), "the output directory was created");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,31 +3,15 @@
 //! scenes finish with bounded work or stop with a clear error. Work is bounded by counting
 //! events (the engine asks every 4096 events whether to go on), never by wall-clock time.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+
+use common::{bin, fresh_dir, repo};
 
 use glam::DVec3;
 use spheresweep::Container;
 use spheresweep::sim::{
     Effects, Fixed, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
 };
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_spheresweep"))
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn fresh_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 #[test]
 fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {

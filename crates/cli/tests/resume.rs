@@ -2,44 +2,23 @@
 //! moment and resumed from its last checkpoint ends with outputs identical, byte for byte, to
 //! those of a run never interrupted (the trajectory holds every snapshot up to the final state).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_spheresweep")
-}
+use common::{fresh_dir, spawn_gas_run};
 
-fn scene() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/hard_sphere_gas.toml")
-}
-
+/// The gas run with a checkpoint every 2 time units.
 fn run(out: &Path, extra: &[&str]) -> std::process::Child {
-    Command::new(bin())
-        .arg("run")
-        .arg(scene())
-        .args([
-            "--t-end",
-            "40",
-            "--snapshots",
-            "4",
-            "--checkpoint-every",
-            "2",
-            "--quiet",
-            "--out",
-        ])
-        .arg(out)
-        .args(extra)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs")
+    let mut args = vec!["--checkpoint-every", "2"];
+    args.extend_from_slice(extra);
+    spawn_gas_run(out, &args)
 }
 
 #[test]
 fn a_killed_run_resumes_to_the_same_bytes() {
-    let dir = std::env::temp_dir().join(format!("spheresweep-resume-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = fresh_dir("resume");
     let (full, killed) = (dir.join("full"), dir.join("killed"));
     std::fs::create_dir_all(&killed).unwrap();
 
@@ -114,9 +93,7 @@ fn a_killed_run_resumes_to_the_same_bytes() {
 
 #[test]
 fn a_damaged_or_foreign_checkpoint_is_refused() {
-    let dir = std::env::temp_dir().join(format!("spheresweep-resume-bad-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("resume-bad");
     let bogus = dir.join("bogus.bin");
     std::fs::write(&bogus, b"not a checkpoint").unwrap();
     let out = run(&dir.join("out"), &["--resume", bogus.to_str().unwrap()])

@@ -1,0 +1,43 @@
+//! Helpers shared by the binary's integration tests: the binary, paths in the repository, a
+//! fresh scratch directory, and a `run` of the hard-sphere gas started in the background.
+// Each test file uses a part of these.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+/// The `spheresweep` binary this test build made.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_spheresweep"))
+}
+
+/// A path inside the repository, given from its root.
+pub fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+/// An empty directory under the system's temporary directory, named after the test and this
+/// process (anything left there by an earlier run is removed).
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `spheresweep run` of scenes/hard_sphere_gas.toml to t = 40 with four snapshots into `out`,
+/// plus `extra` arguments, started in the background with its standard error piped.
+pub fn spawn_gas_run(out: &Path, extra: &[&str]) -> Child {
+    bin()
+        .arg("run")
+        .arg(repo("scenes/hard_sphere_gas.toml"))
+        .args(["--t-end", "40", "--snapshots", "4", "--quiet", "--out"])
+        .arg(out)
+        .args(extra)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs")
+}
