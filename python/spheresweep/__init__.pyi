@@ -232,15 +232,24 @@ class Simulation:
         radii: ArrayLike,
         masses: Optional[ArrayLike] = None,
         *,
-        planes: Optional[Sequence[Plane]] = None,
-        cylinders: Optional[Sequence[Cylinder]] = None,
-        containers: Optional[Sequence[Container]] = None,
+        planes: Optional[Sequence[Union[Plane, Tuple[Plane, int]]]] = None,
+        cylinders: Optional[Sequence[Union[Cylinder, Tuple[Cylinder, int]]]] = None,
+        containers: Optional[Sequence[Union[Container, Tuple[Container, int]]]] = None,
         periodic_box: Optional[Vector3] = None,
         restitution: float = 1.0,
+        response: Optional[str] = None,
+        tc: float = 0.0,
+        materials: Optional[ArrayLike] = None,
+        pairs: Optional[Sequence[Tuple[int, int, Union[float, str]]]] = None,
         record_events: bool = False,
         geometry: bool = False,
     ) -> "Simulation":
-        """Spheres given as float64 arrays among static shapes, open or periodic."""
+        """Spheres given as float64 arrays among static shapes, open or periodic.
+
+        ``response``: "none", "elastic", "inelastic" (with ``restitution``) or "sticky";
+        ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
+        may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
+        "sticky")`` overrides per pair of materials."""
     def advance_to(self, t: float) -> None:
         """Processes every collision up to ``t`` (GIL released)."""
     @property
@@ -269,6 +278,9 @@ class Simulation:
     def memory_bytes(self) -> int: ...
     def clusters(self) -> List[List[int]]: ...
     def checkpoint(self) -> bytes: ...
+    def restore(self, data: bytes) -> None:
+        """The state ``checkpoint`` saved, of the same system (radii, masses, materials,
+        shapes, boundary, effects); ValueError otherwise."""
     def take_events(self) -> Dict[str, npt.NDArray[Any]]:
         """Recorded collisions since the last call: time, sphere, kind, index, approach,
         restitution, energy_lost (K,) and point, normal (K, 3)."""

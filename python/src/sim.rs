@@ -23,15 +23,19 @@ use crate::scene::{KIND_NONE, kind_code};
 #[pyclass(frozen, module = "spheresweep._native")]
 pub struct Simulation {
     sim: Mutex<sim::Simulation>,
+    /// What the simulation was built from, kept for `restore` (a checkpoint holds the dynamic
+    /// state only, and is checked against this).
+    world: World,
     /// The scene file's end time, when built from one.
     t_end: Option<f64>,
 }
 
 impl Simulation {
     fn new(world: World, t_end: Option<f64>) -> PyResult<Self> {
-        let sim = sim::Simulation::new(world).map_err(value_error)?;
+        let sim = sim::Simulation::new(world.clone()).map_err(value_error)?;
         Ok(Self {
             sim: Mutex::new(sim),
+            world,
             t_end,
         })
     }
@@ -75,6 +79,71 @@ fn response_of(restitution: f64) -> PyResult<Response> {
     })
 }
 
+/// The scene's response: `response` by name (`"none"`, `"elastic"`, `"inelastic"`,
+/// `"sticky"`), or when it is `None` the one `restitution` implies (elastic at 1).
+fn scene_response(response: Option<&str>, restitution: f64) -> PyResult<Response> {
+    match response {
+        None => response_of(restitution),
+        Some("none") => Ok(Response::None),
+        Some("elastic") => Ok(Response::Elastic),
+        Some("inelastic") => {
+            response_of(restitution)?;
+            Ok(Response::Inelastic { restitution })
+        }
+        Some("sticky") => Ok(Response::Sticky),
+        Some(other) => Err(PyValueError::new_err(format!(
+            "response: {other:?} is not one of \"none\", \"elastic\", \"inelastic\", \"sticky\""
+        ))),
+    }
+}
+
+/// A material index from Python: an integer in `[0, 65535]`, or a `ValueError` naming `what`.
+fn material_index(value: &Bound<'_, PyAny>, what: &str) -> PyResult<u16> {
+    let i: i64 = value.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!("{what}: a material is an integer"))
+    })?;
+    u16::try_from(i)
+        .map_err(|_| PyValueError::new_err(format!("{what}: material {i} is not in [0, 65535]")))
+}
+
+/// One entry of `pairs`: `(a, b, response)` with `response` a restitution in `[0, 1]` or
+/// `"elastic"` / `"sticky"`.
+fn material_pair(item: &Bound<'_, PyAny>, what: &str) -> PyResult<sim::MaterialPair> {
+    let parts: Vec<Bound<'_, PyAny>> = item
+        .try_iter()
+        .and_then(|it| it.collect())
+        .ok()
+        .filter(|p: &Vec<_>| p.len() == 3)
+        .ok_or_else(|| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "{what}: expected a tuple (a, b, response)"
+            ))
+        })?;
+    let a = material_index(&parts[0], &format!("{what}.a"))?;
+    let b = material_index(&parts[1], &format!("{what}.b"))?;
+    let response = if let Ok(name) = parts[2].extract::<String>() {
+        match name.as_str() {
+            "elastic" => Response::Elastic,
+            "sticky" => Response::Sticky,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{what}.response: {name:?} is not a restitution, \"elastic\" or \"sticky\""
+                )));
+            }
+        }
+    } else {
+        let e: f64 = parts[2].extract().map_err(|_| {
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "{what}.response: expected a restitution or \"elastic\" / \"sticky\""
+            ))
+        })?;
+        response_of(e).map_err(|_| {
+            PyValueError::new_err(format!("{what}.response: restitution {e} is not in [0, 1]"))
+        })?
+    };
+    Ok(sim::MaterialPair { a, b, response })
+}
+
 #[pymethods]
 impl Simulation {
     /// A simulation of the scene file at `path` (TOML, or JSON when the name ends in
@@ -84,9 +153,11 @@ impl Simulation {
     fn from_scene_file(path: PathBuf) -> PyResult<Self> {
         let file = SceneFile::from_path(&path).map_err(scene_file_error)?;
         let (world, run) = file.build().map_err(scene_file_error)?;
-        let sim = sim::Simulation::new(world).map_err(|e| scene_file_error(file.locate(e)))?;
+        let sim =
+            sim::Simulation::new(world.clone()).map_err(|e| scene_file_error(file.locate(e)))?;
         Ok(Self {
             sim: Mutex::new(sim),
+            world,
             t_end: Some(run.t_end),
         })
     }
@@ -119,16 +190,22 @@ impl Simulation {
     /// `centres` and `velocities` `(N, 3)`, `radii` and optional `masses` `(N,)` (default 1),
     /// among static `planes`, `cylinders` and `containers`. `periodic_box` (three lengths)
     /// makes the box `[0, L)` periodic; otherwise space is open. Every collision has
-    /// coefficient of restitution `restitution` (1: elastic). `record_events` keeps each
-    /// collision for `take_events`, with its contact point and normal if `geometry`.
+    /// coefficient of restitution `restitution` (1: elastic), or does what `response` names
+    /// (`"none"`, `"elastic"`, `"inelastic"` with `restitution`, `"sticky"`), as a scene file's
+    /// `[effects]` (docs/scene-format.md); `tc` is the TC model's duration (0: off).
+    /// `materials` gives each sphere a material index (default 0); a shape may be given as a
+    /// `(shape, material)` tuple; `pairs` lists `(a, b, response)` overrides for pairs of
+    /// materials, `response` a restitution or `"elastic"` / `"sticky"`. `record_events` keeps
+    /// each collision for `take_events`, with its contact point and normal if `geometry`.
     ///
-    /// `ValueError` for invalid spheres or shapes, overlaps at the start, a sphere through a
-    /// shape, or a box too small (the message names the item).
+    /// `ValueError` for invalid spheres, shapes, materials or pairs, overlaps at the start, a
+    /// sphere through a shape, or a box too small (the message names the item).
     #[staticmethod]
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
         cylinders = None, containers = None, periodic_box = None, restitution = 1.0,
-        record_events = false, geometry = false))]
+        response = None, tc = 0.0, materials = None, pairs = None, record_events = false,
+        geometry = false))]
     fn from_spheres(
         centres: &Bound<'_, PyAny>,
         velocities: &Bound<'_, PyAny>,
@@ -139,6 +216,10 @@ impl Simulation {
         containers: Option<&Bound<'_, PyAny>>,
         periodic_box: Option<&Bound<'_, PyAny>>,
         restitution: f64,
+        response: Option<&str>,
+        tc: f64,
+        materials: Option<&Bound<'_, PyAny>>,
+        pairs: Option<&Bound<'_, PyAny>>,
         record_events: bool,
         geometry: bool,
     ) -> PyResult<Self> {
@@ -151,9 +232,18 @@ impl Simulation {
         let n = c.as_array().shape()[0];
         let (c, v, r) = (c.as_array(), v.as_array(), r.as_array());
         let m = m.as_ref().map(|m| m.as_array());
+        let material: Vec<u16> = match materials {
+            None => vec![0; n],
+            Some(list) => list
+                .try_iter()?
+                .enumerate()
+                .map(|(i, x)| material_index(&x?, &format!("materials[{i}]")))
+                .collect::<PyResult<_>>()?,
+        };
         for (name, len) in [("velocities", v.shape()[0]), ("radii", r.shape()[0])]
             .into_iter()
             .chain(m.as_ref().map(|m| ("masses", m.shape()[0])))
+            .chain(materials.map(|_| ("materials", material.len())))
         {
             if len != n {
                 return Err(PyValueError::new_err(format!(
@@ -167,7 +257,7 @@ impl Simulation {
                 velocity: DVec3::from_array(row3(&v, i)),
                 radius: r[[i]],
                 mass: m.as_ref().map_or(1.0, |m| m[[i]]),
-                material: 0,
+                material: material[i],
             })
             .collect();
         let mut world = World {
@@ -182,24 +272,55 @@ impl Simulation {
             let Some(items) = items else { continue };
             for (k, item) in items.try_iter()?.enumerate() {
                 let label = format!("{name}[{k}]");
-                match any_static(&item?, &label)? {
-                    AnyStatic::Plane(shape) => world.planes.push(Fixed { shape, material: 0 }),
-                    AnyStatic::Cylinder(shape) => {
-                        world.cylinders.push(Fixed { shape, material: 0 })
-                    }
-                    AnyStatic::Container(shape) => {
-                        world.containers.push(Fixed { shape, material: 0 })
-                    }
+                let item = item?;
+                // A shape, or a (shape, material) tuple.
+                let (shape, material) = match item.cast::<pyo3::types::PyTuple>() {
+                    Ok(t) if t.len() == 2 => (
+                        t.get_item(0)?,
+                        material_index(&t.get_item(1)?, &format!("{label}.material"))?,
+                    ),
+                    _ => (item, 0),
+                };
+                match any_static(&shape, &label)? {
+                    AnyStatic::Plane(shape) => world.planes.push(Fixed { shape, material }),
+                    AnyStatic::Cylinder(shape) => world.cylinders.push(Fixed { shape, material }),
+                    AnyStatic::Container(shape) => world.containers.push(Fixed { shape, material }),
                 }
             }
         }
+        if let Some(pairs) = pairs {
+            for (k, item) in pairs.try_iter()?.enumerate() {
+                world
+                    .effects
+                    .pairs
+                    .push(material_pair(&item?, &format!("pairs[{k}]"))?);
+            }
+        }
+        // Materials are numbered: as many as the largest index used (names "0", "1", ...).
+        let used = world
+            .spheres
+            .iter()
+            .map(|s| s.material)
+            .chain(world.planes.iter().map(|p| p.material))
+            .chain(world.cylinders.iter().map(|c| c.material))
+            .chain(world.containers.iter().map(|c| c.material))
+            .chain(world.effects.pairs.iter().flat_map(|p| [p.a, p.b]))
+            .max()
+            .unwrap_or(0);
+        world.materials = (0..=used).map(|i| i.to_string()).collect();
         if let Some(b) = periodic_box {
             let size = crate::arrays::vector3::<f64>(b, "periodic_box")?;
             world.boundary = Boundary::Periodic {
                 size: DVec3::from_array(size),
             };
         }
-        world.effects.response = response_of(restitution)?;
+        world.effects.response = scene_response(response, restitution)?;
+        if !(tc.is_finite() && tc >= 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "tc: {tc} is not a finite duration >= 0"
+            )));
+        }
+        world.effects.tc = tc;
         world.effects.record_events = record_events;
         world.effects.geometry = geometry;
         Self::new(world, None)
@@ -312,6 +433,18 @@ impl Simulation {
     /// The whole dynamic state as bytes (see the Rust `Simulation::checkpoint`).
     fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         PyBytes::new(py, &self.lock().checkpoint())
+    }
+
+    /// Puts the simulation back in the state `checkpoint` saved (time, positions, velocities,
+    /// counters, pending events), so that it goes on exactly as the saved one would. The bytes
+    /// must come from the same system: spheres of the same radii, masses and materials, the
+    /// same shapes, boundary and effects (starting positions and velocities may differ: the
+    /// checkpoint holds them). `ValueError` saying why otherwise (damaged, truncated, another
+    /// world), and the simulation is left as it was.
+    fn restore(&self, data: &[u8]) -> PyResult<()> {
+        let restored = sim::Simulation::restore(self.world.clone(), data).map_err(value_error)?;
+        *self.lock() = restored;
+        Ok(())
     }
 
     /// The collisions recorded since the last call (empty unless the simulation records

@@ -185,3 +185,147 @@ def test_from_spheres_in_a_periodic_box_matches_periodic_gas():
     assert np.array_equal(gas.positions, again.positions)
     with pytest.raises(ValueError, match="periodic box x"):
         ss.Simulation.from_spheres(gas.positions, gas.velocities, gas.radii, periodic_box=[1.0, side, side])
+
+
+def test_restore_goes_on_as_the_saved_simulation_would():
+    a = ss.Simulation.periodic_gas(500, 0.3, seed=7)
+    a.advance_to(1.0)
+    saved = a.checkpoint()
+    a.advance_to(2.0)
+    after = (a.positions, a.velocities, a.stats)
+    # Restored into a simulation built the same way, and also into `a` itself (back in time).
+    b = ss.Simulation.periodic_gas(500, 0.3, seed=7)
+    for sim in (a, b):
+        sim.restore(saved)
+        assert sim.time == 1.0
+        sim.advance_to(2.0)
+        assert np.array_equal(sim.positions, after[0])
+        assert np.array_equal(sim.velocities, after[1])
+        assert sim.stats == after[2]
+
+
+def test_restore_takes_the_state_of_the_same_system_from_other_starting_points():
+    # The checkpoint holds every position and velocity: a gas of the same spheres in the same
+    # box (another seed) takes it and goes on as the saved one.
+    a = ss.Simulation.periodic_gas(200, 0.3, seed=1)
+    b = ss.Simulation.periodic_gas(200, 0.3, seed=2)
+    b.advance_to(1.0)
+    a.restore(b.checkpoint())
+    assert a.time == 1.0 and np.array_equal(a.positions, b.positions)
+    a.advance_to(2.0)
+    b.advance_to(2.0)
+    assert np.array_equal(a.velocities, b.velocities) and a.stats == b.stats
+
+
+def test_restore_refuses_other_systems_and_damage_and_keeps_the_state():
+    a = ss.Simulation.periodic_gas(200, 0.3, seed=1)
+    a.advance_to(0.5)
+    before = (a.time, a.positions)
+    damaged = bytearray(a.checkpoint())
+    damaged[len(damaged) // 2] ^= 1
+    # Another system: a denser box, more spheres, or the same spheres colliding inelastically.
+    c, v = a.positions, a.velocities
+    side = (200 * 4 / 3 * math.pi * 0.5**3 / 0.3) ** (1 / 3)
+    others = [
+        ss.Simulation.periodic_gas(200, 0.25, seed=1),
+        ss.Simulation.periodic_gas(300, 0.3, seed=1),
+        ss.Simulation.from_spheres(c, v, np.full(200, 0.5), periodic_box=[side] * 3, restitution=0.9),
+    ]
+    for data, message in [(o.checkpoint(), "another world") for o in others] + [
+        (bytes(damaged), "checkpoint"),
+        (b"", "checkpoint: truncated"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            a.restore(data)
+        assert a.time == before[0] and np.array_equal(a.positions, before[1])
+
+
+def _head_on(**kw):
+    # Two unit spheres 10 apart approaching at 1 each (contact at t = 4), equal masses.
+    return ss.Simulation.from_spheres(
+        [[0, 0, 0], [10, 0, 0]], [[1, 0, 0], [-1, 0, 0]], [1.0, 1.0], **kw
+    )
+
+
+def test_a_pair_of_materials_has_its_own_restitution():
+    # Materials 0 and 1 meet with e = 0.5: the relative velocity (2) reverses at half speed,
+    # the centre of mass (at rest) stays at rest, so each leaves at 0.5.
+    sim = _head_on(materials=[0, 1], pairs=[(1, 0, 0.5)])
+    sim.advance_to(6.0)
+    assert sim.velocities == pytest.approx(np.array([[-0.5, 0, 0], [0.5, 0, 0]]))
+    # Energy lost: 1/2 mu (1 - e^2) v_rel^2 with mu = 1/2: 1/4 * 3/4 * 4 = 0.75.
+    assert sim.stats["energy_lost"] == pytest.approx(0.75)
+    # The same spheres both of material 0 collide as the scene says (elastic).
+    sim = _head_on(materials=[0, 0], pairs=[(1, 0, 0.5)])
+    sim.advance_to(6.0)
+    assert sim.velocities == pytest.approx(np.array([[-1, 0, 0], [1, 0, 0]]))
+
+
+def test_a_sticky_pair_joins_into_one_cluster_with_the_momentum():
+    # Unequal masses 1 and 3 at +1 and -1: the cluster moves at (1 - 3) / 4 = -0.5.
+    sim = ss.Simulation.from_spheres(
+        [[0, 0, 0], [10, 0, 0]], [[1, 0, 0], [-1, 0, 0]], [1.0, 1.0], [1.0, 3.0],
+        materials=[2, 5], pairs=[(2, 5, "sticky")],
+    )  # fmt: skip
+    p0 = np.array(sim.momentum())
+    sim.advance_to(8.0)
+    assert sorted(map(sorted, sim.clusters())) == [[0, 1]]
+    assert sim.velocities == pytest.approx(np.array([[-0.5, 0, 0], [-0.5, 0, 0]]))
+    assert np.array(sim.momentum()) == pytest.approx(p0)
+    # Joined at contact (t = 4, x = 4 and 6), then moved together: the gap stays 2.
+    assert sim.positions[1, 0] - sim.positions[0, 0] == pytest.approx(2.0)
+
+
+def test_a_shape_of_its_own_material_and_the_scene_response():
+    # The floor is of material 1; pair (0, 1) has e = 0.25: the ball falling at 2 leaves at
+    # 0.5. The scene's own response (restitution 1) would have bounced it at 2.
+    floor = ss.Plane([0, 0, 0], [0, 0, 1])
+    sim = ss.Simulation.from_spheres(
+        [[0, 0, 3]], [[0, 0, -2]], [1.0], planes=[(floor, 1)], pairs=[(0, 1, 0.25)]
+    )
+    sim.advance_to(2.0)
+    assert sim.velocities[0] == pytest.approx([0, 0, 0.5])
+    sim = ss.Simulation.from_spheres([[0, 0, 3]], [[0, 0, -2]], [1.0], planes=[(floor, 1)])
+    sim.advance_to(2.0)
+    assert sim.velocities[0] == pytest.approx([0, 0, 2.0])
+
+
+def test_response_none_reports_contacts_and_changes_nothing():
+    sim = _head_on(response="none", record_events=True)
+    sim.advance_to(12.0)
+    # The spheres pass through each other: velocities unchanged, energy kept exactly.
+    assert sim.velocities.tolist() == [[1, 0, 0], [-1, 0, 0]]
+    assert sim.positions == pytest.approx(np.array([[12, 0, 0], [-2, 0, 0]]))
+    assert sim.kinetic_energy() == 1.0
+    ev = sim.take_events()
+    assert ev["time"][0] == pytest.approx(4.0, abs=1e-12)
+    # "inelastic" takes its coefficient from restitution.
+    sim = _head_on(response="inelastic", restitution=0.0)
+    sim.advance_to(6.0)
+    assert sim.velocities == pytest.approx(np.zeros((2, 3)))
+
+
+def test_material_and_effect_errors_name_the_argument():
+    c, v, r = [[0, 0, 0], [10, 0, 0]], np.zeros((2, 3)), [1.0, 1.0]
+    cases = [
+        (dict(materials=[0]), ValueError, r"materials: 1 entries, expected 2"),
+        (dict(materials=[0, -1]), ValueError, r"materials\[1\]: material -1 is not in \[0, 65535\]"),
+        (dict(materials=[0, 70000]), ValueError, r"materials\[1\]: material 70000"),
+        (dict(materials=[0, 1.5]), TypeError, r"materials\[1\]: a material is an integer"),
+        (dict(pairs=[(0, 1)]), TypeError, r"pairs\[0\]: expected a tuple \(a, b, response\)"),
+        (dict(pairs=[(0, 1, 2.0)]), ValueError, r"pairs\[0\].response: restitution 2"),
+        (dict(pairs=[(0, 1, "bouncy")]), ValueError, r"pairs\[0\].response: \"bouncy\""),
+        (dict(pairs=[(0, -3, 0.5)]), ValueError, r"pairs\[0\].b: material -3"),
+        (dict(response="bouncy"), ValueError, r"response: \"bouncy\" is not one of"),
+        (dict(response="inelastic", restitution=-0.5), ValueError, r"restitution: -0.5"),
+        (dict(tc=-1.0), ValueError, r"tc: -1"),
+        (dict(tc=math.inf), ValueError, r"tc: inf"),
+        (dict(planes=[(ss.Plane([0, 0, -5], [0, 0, 1]), -2)]), ValueError, r"planes\[0\].material: material -2"),
+        (dict(planes=[(ss.Plane([0, 0, -5], [0, 0, 1]), 1, 2)]), TypeError, r"planes\[0\]: expected a Plane"),
+    ]
+    for kw, error, message in cases:
+        with pytest.raises(error, match=message):
+            ss.Simulation.from_spheres(c, v, r, **kw)
+    # A pair in a scene that only reports contacts is refused by the world's validation.
+    with pytest.raises(ValueError, match="pair"):
+        ss.Simulation.from_spheres(c, v, r, response="none", pairs=[(0, 0, 0.5)])
