@@ -396,11 +396,19 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     crate::output::check_writable(&json_path)?;
     let checkpoint_path = dir.join("checkpoint.bin");
     if resume.is_some() {
-        // Temporary files an interrupted run left behind in this directory.
+        // Temporary files an interrupted run left behind in this directory (a run killed
+        // while it wrote a checkpoint or its summary leaves theirs too).
+        let outputs = [
+            "trajectory.xyz",
+            "events.csv",
+            "checkpoint.bin",
+            "summary.json",
+        ];
         for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
-            if (name.starts_with(".trajectory.xyz.") || name.starts_with(".events.csv."))
-                && name.ends_with(".tmp")
+            if outputs
+                .iter()
+                .any(|o| name.starts_with(&format!(".{o}.")) && name.ends_with(".tmp"))
             {
                 let _ = std::fs::remove_file(entry.path());
             }

@@ -53,6 +53,12 @@ fn a_killed_run_resumes_to_the_same_bytes() {
         "no checkpoint was written"
     );
 
+    // SIGKILL can land while a checkpoint or the summary is being written, leaving its
+    // temporary file: the resumed run removes those too (planted here, so that the check below
+    // does not depend on where the kill landed).
+    for name in [".checkpoint.bin.1.tmp", ".summary.json.1.tmp"] {
+        std::fs::write(killed.join(name), b"left by a killed run").unwrap();
+    }
     let ckpt = killed.join("checkpoint.bin");
     let resumed = run(&killed, &["--resume", ckpt.to_str().unwrap()])
         .wait_with_output()
