@@ -82,6 +82,15 @@ fn response_of(restitution: f64) -> PyResult<Response> {
 /// The scene's response: `response` by name (`"none"`, `"elastic"`, `"inelastic"`,
 /// `"sticky"`), or when it is `None` the one `restitution` implies (elastic at 1).
 fn scene_response(response: Option<&str>, restitution: f64) -> PyResult<Response> {
+    // As in a scene file: a restitution goes with "inelastic" only.
+    if let Some(name) = response
+        && name != "inelastic"
+        && restitution != 1.0
+    {
+        return Err(PyValueError::new_err(format!(
+            "restitution: {restitution} given with response {name:?} (it applies to \"inelastic\" only)"
+        )));
+    }
     match response {
         None => response_of(restitution),
         Some("none") => Ok(Response::None),

@@ -318,6 +318,7 @@ def test_material_and_effect_errors_name_the_argument():
         (dict(pairs=[(0, -3, 0.5)]), ValueError, r"pairs\[0\].b: material -3"),
         (dict(response="bouncy"), ValueError, r"response: \"bouncy\" is not one of"),
         (dict(response="inelastic", restitution=-0.5), ValueError, r"restitution: -0.5"),
+        (dict(response="sticky", restitution=0.5), ValueError, r"restitution: 0.5 given with response \"sticky\""),
         (dict(tc=-1.0), ValueError, r"tc: -1"),
         (dict(tc=math.inf), ValueError, r"tc: inf"),
         (dict(planes=[(ss.Plane([0, 0, -5], [0, 0, 1]), -2)]), ValueError, r"planes\[0\].material: material -2"),
