@@ -1072,11 +1072,12 @@ impl SceneFile {
         if self.material.is_empty() {
             return Ok(vec!["default".into()]);
         }
-        if self.material.len() > usize::from(u16::MAX) + 1 {
+        if self.material.len() > crate::sim::MAX_MATERIALS {
+            let max = crate::sim::MAX_MATERIALS;
             return Err(self.item_error(
-                format!("material {}", usize::from(u16::MAX) + 1),
-                &[Key("material"), At(usize::from(u16::MAX) + 1)],
-                "at most 65536 materials".into(),
+                format!("material {max}"),
+                &[Key("material"), At(max)],
+                format!("at most {max} materials"),
             ));
         }
         let mut names: Vec<String> = Vec::with_capacity(self.material.len());
@@ -1111,7 +1112,7 @@ impl SceneFile {
     ) -> Result<u16, SceneFileError> {
         let Some(name) = name else { return Ok(0) };
         match names.iter().position(|n| n == name) {
-            // At most 65536 names (checked in `materials`).
+            // At most MAX_MATERIALS names (checked in `materials`).
             Some(i) => Ok(i as u16),
             None => Err(self.item_error(
                 item,
@@ -1932,6 +1933,25 @@ radius = 30.0
             err.starts_with("line 6: plane 0: material \"x\" is not declared"),
             "{err}"
         );
+    }
+
+    /// More materials than the engine's response table holds are refused, naming the first
+    /// one too many; the most accepted build.
+    #[test]
+    fn at_most_max_materials_are_declared() {
+        let declare = |n: usize| {
+            let mut text = String::from("[run]\nt_end = 1\n");
+            for k in 0..n {
+                text += &format!("[[material]]\nname = \"m{k}\"\n");
+            }
+            text
+        };
+        let max = crate::sim::MAX_MATERIALS;
+        let err = toml_error(&declare(max + 1));
+        assert!(err.contains(&format!("at most {max} materials")), "{err}");
+        let file = SceneFile::from_toml_str(&declare(max)).unwrap();
+        let (world, _) = file.build().unwrap();
+        assert_eq!(world.materials.len(), max);
     }
 
     #[test]

@@ -30,7 +30,9 @@ mod queue;
 mod response;
 
 pub use demo::demo_world;
-pub use model::{Boundary, Effects, Fixed, MaterialPair, Response, SimError, SphereState, World};
+pub use model::{
+    Boundary, Effects, Fixed, MAX_MATERIALS, MaterialPair, Response, SimError, SphereState, World,
+};
 
 use glam::DVec3;
 

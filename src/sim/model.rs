@@ -212,10 +212,22 @@ fn finite3(v: DVec3) -> bool {
     v.is_finite()
 }
 
+/// The most materials a world may have: the engine keeps a response for every ordered pair of
+/// materials (16 MiB at this count), so a larger table is refused rather than allocated.
+pub const MAX_MATERIALS: usize = 1024;
+
 impl World {
-    /// Checks every item once: finite values, positive radii and masses, existing materials,
-    /// effect parameters in range. Overlaps and the box size are checked when the engine is built.
+    /// Checks every item once: finite values, positive radii and masses, existing materials
+    /// (at most [`MAX_MATERIALS`]), effect parameters in range. Overlaps and the box size are
+    /// checked when the engine is built.
     pub fn validate(&self) -> Result<(), SimError> {
+        if self.materials.len() > MAX_MATERIALS {
+            return Err(SimError::Effects(format!(
+                "{} materials: at most {MAX_MATERIALS} (the engine keeps a response for every \
+                 pair of materials)",
+                self.materials.len()
+            )));
+        }
         let count = self.materials.len().max(1);
         let material = |item: String, m: u16| {
             if usize::from(m) < count {
@@ -366,6 +378,13 @@ mod tests {
                 "material pair 0: material 2 does not exist (2 materials)",
             ),
             (world(Response::Elastic, vec![], -1.0), "tc = -1 must be"),
+            (
+                World {
+                    materials: (0..=MAX_MATERIALS).map(|i| i.to_string()).collect(),
+                    ..world(Response::Elastic, vec![], 0.0)
+                },
+                "1025 materials: at most 1024",
+            ),
         ] {
             let e = w.validate().unwrap_err().to_string();
             assert!(e.contains(message), "{e}");
