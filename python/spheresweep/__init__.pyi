@@ -236,8 +236,8 @@ class Simulation:
         cylinders: Optional[Sequence[Union[Cylinder, Tuple[Cylinder, int]]]] = None,
         containers: Optional[Sequence[Union[Container, Tuple[Container, int]]]] = None,
         periodic_box: Optional[Vector3] = None,
-        restitution: float = 1.0,
-        response: Optional[str] = None,
+        restitution: Optional[float] = None,
+        response: Optional[Literal["none", "elastic", "inelastic", "sticky"]] = None,
         tc: float = 0.0,
         materials: Optional[ArrayLike] = None,
         pairs: Optional[Sequence[Tuple[int, int, Union[float, str]]]] = None,
@@ -246,7 +246,8 @@ class Simulation:
     ) -> "Simulation":
         """Spheres given as float64 arrays among static shapes, open or periodic.
 
-        ``response``: "none", "elastic", "inelastic" (with ``restitution``) or "sticky";
+        ``restitution`` alone: elastic when absent or 1, inelastic below. ``response``:
+        "none", "elastic", "inelastic" (``restitution`` required) or "sticky";
         ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
         may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
         "sticky")`` overrides per pair of materials."""

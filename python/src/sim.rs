@@ -40,9 +40,20 @@ impl Simulation {
         })
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, sim::Simulation> {
-        // A panic while the lock was held leaves no half-written state we read here.
-        self.sim.lock().unwrap_or_else(|e| e.into_inner())
+    /// The simulation, locked. While another thread holds it (`advance_to` runs without the
+    /// GIL), this waits with the GIL released: waiting with it held would deadlock with that
+    /// thread taking the GIL back.
+    fn lock(&self, py: Python<'_>) -> std::sync::MutexGuard<'_, sim::Simulation> {
+        loop {
+            match self.sim.try_lock() {
+                Ok(guard) => return guard,
+                // A panic while the lock was held leaves no half-written state we read here.
+                Err(std::sync::TryLockError::Poisoned(e)) => return e.into_inner(),
+                Err(std::sync::TryLockError::WouldBlock) => {
+                    py.detach(|| drop(self.sim.lock()));
+                }
+            }
+        }
     }
 
     fn rows<'py>(
@@ -50,7 +61,7 @@ impl Simulation {
         py: Python<'py>,
         f: impl Fn(&SphereState) -> DVec3,
     ) -> Bound<'py, PyArray2<f64>> {
-        let spheres = self.lock().spheres();
+        let spheres = self.lock(py).spheres();
         let data: Vec<f64> = spheres.iter().flat_map(|s| f(s).to_array()).collect();
         Array2::from_shape_vec((spheres.len(), 3), data)
             .expect("3 per sphere")
@@ -79,40 +90,47 @@ fn response_of(restitution: f64) -> PyResult<Response> {
     })
 }
 
-/// The scene's response: `response` by name (`"none"`, `"elastic"`, `"inelastic"`,
-/// `"sticky"`), or when it is `None` the one `restitution` implies (elastic at 1).
-fn scene_response(response: Option<&str>, restitution: f64) -> PyResult<Response> {
-    // As in a scene file: a restitution goes with "inelastic" only.
-    if let Some(name) = response
-        && name != "inelastic"
-        && restitution != 1.0
-    {
-        return Err(PyValueError::new_err(format!(
-            "restitution: {restitution} given with response {name:?} (it applies to \"inelastic\" only)"
-        )));
-    }
-    match response {
-        None => response_of(restitution),
-        Some("none") => Ok(Response::None),
-        Some("elastic") => Ok(Response::Elastic),
-        Some("inelastic") => {
-            response_of(restitution)?;
-            Ok(Response::Inelastic { restitution })
+/// The scene's response, as a scene file's `[effects]`: `response` by name (`"none"`,
+/// `"elastic"`, `"inelastic"` with `restitution` required, `"sticky"`), a `restitution` only
+/// with `"inelastic"`; or, without `response`, the one `restitution` implies (elastic at 1 or
+/// when absent, inelastic below).
+fn scene_response(response: Option<&str>, restitution: Option<f64>) -> PyResult<Response> {
+    match (response, restitution) {
+        (None, None) | (Some("elastic"), None) => Ok(Response::Elastic),
+        (None, Some(e)) => response_of(e),
+        (Some("inelastic"), Some(e)) => {
+            response_of(e)?;
+            Ok(Response::Inelastic { restitution: e })
         }
-        Some("sticky") => Ok(Response::Sticky),
-        Some(other) => Err(PyValueError::new_err(format!(
+        (Some("inelastic"), None) => Err(PyValueError::new_err(
+            "restitution: required with response \"inelastic\"",
+        )),
+        (Some("none"), None) => Ok(Response::None),
+        (Some("sticky"), None) => Ok(Response::Sticky),
+        (Some(name @ ("none" | "elastic" | "sticky")), Some(e)) => {
+            Err(PyValueError::new_err(format!(
+                "restitution: {e} given with response {name:?} (it applies to \"inelastic\" only)"
+            )))
+        }
+        (Some(other), _) => Err(PyValueError::new_err(format!(
             "response: {other:?} is not one of \"none\", \"elastic\", \"inelastic\", \"sticky\""
         ))),
     }
 }
 
-/// A material index from Python: an integer in `[0, 65535]`, or a `ValueError` naming `what`.
+/// A material index from Python: an integer in `[0, MAX_MATERIALS)`, or an error naming
+/// `what`.
 fn material_index(value: &Bound<'_, PyAny>, what: &str) -> PyResult<u16> {
     let i: i64 = value.extract().map_err(|_| {
         pyo3::exceptions::PyTypeError::new_err(format!("{what}: a material is an integer"))
     })?;
-    u16::try_from(i)
-        .map_err(|_| PyValueError::new_err(format!("{what}: material {i} is not in [0, 65535]")))
+    match u16::try_from(i) {
+        Ok(m) if usize::from(m) < sim::MAX_MATERIALS => Ok(m),
+        _ => Err(PyValueError::new_err(format!(
+            "{what}: material {i} is not in [0, {}]",
+            sim::MAX_MATERIALS - 1
+        ))),
+    }
 }
 
 /// One entry of `pairs`: `(a, b, response)` with `response` a restitution in `[0, 1]` or
@@ -199,9 +217,10 @@ impl Simulation {
     /// `centres` and `velocities` `(N, 3)`, `radii` and optional `masses` `(N,)` (default 1),
     /// among static `planes`, `cylinders` and `containers`. `periodic_box` (three lengths)
     /// makes the box `[0, L)` periodic; otherwise space is open. Every collision has
-    /// coefficient of restitution `restitution` (1: elastic), or does what `response` names
-    /// (`"none"`, `"elastic"`, `"inelastic"` with `restitution`, `"sticky"`), as a scene file's
-    /// `[effects]` (docs/scene-format.md); `tc` is the TC model's duration (0: off).
+    /// coefficient of restitution `restitution` (absent or 1: elastic), or does what `response`
+    /// names (`"none"`, `"elastic"`, `"inelastic"` with `restitution`, `"sticky"`), as a scene
+    /// file's `[effects]` (docs/scene-format.md); `tc` is the TC model's duration (0: off).
+    /// Materials are indices below 1024 (`MAX_MATERIALS`).
     /// `materials` gives each sphere a material index (default 0); a shape may be given as a
     /// `(shape, material)` tuple; `pairs` lists `(a, b, response)` overrides for pairs of
     /// materials, `response` a restitution or `"elastic"` / `"sticky"`. `record_events` keeps
@@ -212,7 +231,7 @@ impl Simulation {
     #[staticmethod]
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
-        cylinders = None, containers = None, periodic_box = None, restitution = 1.0,
+        cylinders = None, containers = None, periodic_box = None, restitution = None,
         response = None, tc = 0.0, materials = None, pairs = None, record_events = false,
         geometry = false))]
     fn from_spheres(
@@ -224,7 +243,7 @@ impl Simulation {
         cylinders: Option<&Bound<'_, PyAny>>,
         containers: Option<&Bound<'_, PyAny>>,
         periodic_box: Option<&Bound<'_, PyAny>>,
-        restitution: f64,
+        restitution: Option<f64>,
         response: Option<&str>,
         tc: f64,
         materials: Option<&Bound<'_, PyAny>>,
@@ -305,7 +324,9 @@ impl Simulation {
                     .push(material_pair(&item?, &format!("pairs[{k}]"))?);
             }
         }
-        // Materials are numbered: as many as the largest index used (names "0", "1", ...).
+        // Materials are numbered: as many as the largest index used (names "0", "1", ...);
+        // none listed when every index is 0, as in every other world of one material (so that
+        // checkpoints pass between them).
         let used = world
             .spheres
             .iter()
@@ -316,7 +337,9 @@ impl Simulation {
             .chain(world.effects.pairs.iter().flat_map(|p| [p.a, p.b]))
             .max()
             .unwrap_or(0);
-        world.materials = (0..=used).map(|i| i.to_string()).collect();
+        if used > 0 {
+            world.materials = (0..=used).map(|i| i.to_string()).collect();
+        }
         if let Some(b) = periodic_box {
             let size = crate::arrays::vector3::<f64>(b, "periodic_box")?;
             world.boundary = Boundary::Periodic {
@@ -338,15 +361,15 @@ impl Simulation {
     /// Processes every collision up to time `t` (inclusive) and moves the clock to `t`, with
     /// the GIL released. `ValueError` if `t` is not finite or before `time`.
     fn advance_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let mut guard = self.lock();
+        let mut guard = self.lock(py);
         let sim: &mut sim::Simulation = &mut guard;
         py.detach(move || sim.advance_to(t)).map_err(value_error)
     }
 
     /// The current time.
     #[getter]
-    fn time(&self) -> f64 {
-        self.lock().time()
+    fn time(&self, py: Python<'_>) -> f64 {
+        self.lock(py).time()
     }
 
     /// The end time the scene file asked for (`[run] t_end`), or `None`.
@@ -356,8 +379,8 @@ impl Simulation {
     }
 
     /// Number of spheres.
-    fn __len__(&self) -> usize {
-        self.lock().spheres().len()
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.lock(py).spheres().len()
     }
 
     /// Centres now, float64 `(N, 3)` (periodic centres wrapped into the box).
@@ -375,25 +398,25 @@ impl Simulation {
     /// Radii, float64 `(N,)`.
     #[getter]
     fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let r: Vec<f64> = self.lock().spheres().iter().map(|s| s.radius).collect();
+        let r: Vec<f64> = self.lock(py).spheres().iter().map(|s| s.radius).collect();
         r.into_pyarray(py)
     }
 
     /// Masses, float64 `(N,)`.
     #[getter]
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let m: Vec<f64> = self.lock().spheres().iter().map(|s| s.mass).collect();
+        let m: Vec<f64> = self.lock(py).spheres().iter().map(|s| s.mass).collect();
         m.into_pyarray(py)
     }
 
     /// Total kinetic energy `sum(m v^2 / 2)`.
-    fn kinetic_energy(&self) -> f64 {
-        self.lock().kinetic_energy()
+    fn kinetic_energy(&self, py: Python<'_>) -> f64 {
+        self.lock(py).kinetic_energy()
     }
 
     /// Total momentum `sum(m v)`, a tuple of three floats.
-    fn momentum(&self) -> (f64, f64, f64) {
-        let p = self.lock().momentum();
+    fn momentum(&self, py: Python<'_>) -> (f64, f64, f64) {
+        let p = self.lock(py).momentum();
         (p.x, p.y, p.z)
     }
 
@@ -403,7 +426,7 @@ impl Simulation {
     /// `max_overlap`, `joins`, `guarded`.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = *self.lock().stats();
+        let s = *self.lock(py).stats();
         let d = PyDict::new(py);
         d.set_item("collisions", s.pair_collisions + s.wall_collisions)?;
         d.set_item("pair_collisions", s.pair_collisions)?;
@@ -425,23 +448,23 @@ impl Simulation {
 
     /// Which engine the world was assembled into.
     #[getter]
-    fn engine(&self) -> String {
-        self.lock().engine_name()
+    fn engine(&self, py: Python<'_>) -> String {
+        self.lock(py).engine_name()
     }
 
     /// Bytes the simulation holds.
-    fn memory_bytes(&self) -> usize {
-        self.lock().memory_bytes()
+    fn memory_bytes(&self, py: Python<'_>) -> usize {
+        self.lock(py).memory_bytes()
     }
 
     /// Clusters of two or more spheres (sticky scenes), each a list of sphere indices.
-    fn clusters(&self) -> Vec<Vec<u32>> {
-        self.lock().clusters()
+    fn clusters(&self, py: Python<'_>) -> Vec<Vec<u32>> {
+        self.lock(py).clusters()
     }
 
     /// The whole dynamic state as bytes (see the Rust `Simulation::checkpoint`).
     fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.lock().checkpoint())
+        PyBytes::new(py, &self.lock(py).checkpoint())
     }
 
     /// Puts the simulation back in the state `checkpoint` saved (time, positions, velocities,
@@ -450,9 +473,12 @@ impl Simulation {
     /// same shapes, boundary and effects (starting positions and velocities may differ: the
     /// checkpoint holds them). `ValueError` saying why otherwise (damaged, truncated, another
     /// world), and the simulation is left as it was.
-    fn restore(&self, data: &[u8]) -> PyResult<()> {
-        let restored = sim::Simulation::restore(self.world.clone(), data).map_err(value_error)?;
-        *self.lock() = restored;
+    fn restore(&self, py: Python<'_>, data: &[u8]) -> PyResult<()> {
+        let world = self.world.clone();
+        let restored = py
+            .detach(move || sim::Simulation::restore(world, data))
+            .map_err(value_error)?;
+        *self.lock(py) = restored;
         Ok(())
     }
 
@@ -461,7 +487,7 @@ impl Simulation {
     /// `kind` uint8 (`KIND_*`), `index` int64, `approach`, `restitution`, `energy_lost`
     /// float64, and `point`, `normal` float64 `(K, 3)` (NaN without geometry).
     fn take_events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let events = self.lock().take_events();
+        let events = self.lock(py).take_events();
         let k = events.len();
         let d = PyDict::new(py);
         let col_f =
@@ -494,8 +520,8 @@ impl Simulation {
         Ok(d)
     }
 
-    fn __repr__(&self) -> String {
-        let sim = self.lock();
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let sim = self.lock(py);
         format!(
             "Simulation(<{} spheres, t = {}, {}>)",
             sim.spheres().len(),

@@ -223,13 +223,10 @@ def test_restore_refuses_other_systems_and_damage_and_keeps_the_state():
     before = (a.time, a.positions)
     damaged = bytearray(a.checkpoint())
     damaged[len(damaged) // 2] ^= 1
-    # Another system: a denser box, more spheres, or the same spheres colliding inelastically.
-    c, v = a.positions, a.velocities
-    side = (200 * 4 / 3 * math.pi * 0.5**3 / 0.3) ** (1 / 3)
+    # Another system: a denser box, or more spheres.
     others = [
         ss.Simulation.periodic_gas(200, 0.25, seed=1),
         ss.Simulation.periodic_gas(300, 0.3, seed=1),
-        ss.Simulation.from_spheres(c, v, np.full(200, 0.5), periodic_box=[side] * 3, restitution=0.9),
     ]
     for data, message in [(o.checkpoint(), "another world") for o in others] + [
         (bytes(damaged), "checkpoint"),
@@ -238,6 +235,17 @@ def test_restore_refuses_other_systems_and_damage_and_keeps_the_state():
         with pytest.raises(ValueError, match=message):
             a.restore(data)
         assert a.time == before[0] and np.array_equal(a.positions, before[1])
+    # The same spheres with other effects are another system; with the same effects, the same.
+    args = (a.positions, a.velocities, np.full(200, 0.5))
+    box = 2 * a.positions.max() + 2
+    elastic = ss.Simulation.from_spheres(*args, periodic_box=[box] * 3)
+    for kw in [dict(restitution=0.9), dict(response="sticky"), dict(tc=1e-3), dict(materials=[1] * 200)]:
+        with pytest.raises(ValueError, match="another world"):
+            elastic.restore(ss.Simulation.from_spheres(*args, periodic_box=[box] * 3, **kw).checkpoint())
+    same = ss.Simulation.from_spheres(*args, periodic_box=[box] * 3)
+    same.advance_to(0.5)
+    elastic.restore(same.checkpoint())
+    assert elastic.time == 0.5 and np.array_equal(elastic.positions, same.positions)
 
 
 def _head_on(**kw):
@@ -309,8 +317,11 @@ def test_material_and_effect_errors_name_the_argument():
     c, v, r = [[0, 0, 0], [10, 0, 0]], np.zeros((2, 3)), [1.0, 1.0]
     cases = [
         (dict(materials=[0]), ValueError, r"materials: 1 entries, expected 2"),
-        (dict(materials=[0, -1]), ValueError, r"materials\[1\]: material -1 is not in \[0, 65535\]"),
+        (dict(materials=[0, -1]), ValueError, r"materials\[1\]: material -1 is not in \[0, 1023\]"),
         (dict(materials=[0, 70000]), ValueError, r"materials\[1\]: material 70000"),
+        # The engine keeps a response per pair of materials: 1024 at most (not a 69 GB table).
+        (dict(materials=[0, 1024]), ValueError, r"materials\[1\]: material 1024 is not in \[0, 1023\]"),
+        (dict(pairs=[(0, 65535, 0.5)]), ValueError, r"pairs\[0\].b: material 65535"),
         (dict(materials=[0, 1.5]), TypeError, r"materials\[1\]: a material is an integer"),
         (dict(pairs=[(0, 1)]), TypeError, r"pairs\[0\]: expected a tuple \(a, b, response\)"),
         (dict(pairs=[(0, 1, 2.0)]), ValueError, r"pairs\[0\].response: restitution 2"),
@@ -319,6 +330,8 @@ def test_material_and_effect_errors_name_the_argument():
         (dict(response="bouncy"), ValueError, r"response: \"bouncy\" is not one of"),
         (dict(response="inelastic", restitution=-0.5), ValueError, r"restitution: -0.5"),
         (dict(response="sticky", restitution=0.5), ValueError, r"restitution: 0.5 given with response \"sticky\""),
+        (dict(response="elastic", restitution=1.0), ValueError, r"restitution: 1 given with response \"elastic\""),
+        (dict(response="inelastic"), ValueError, r"restitution: required with response \"inelastic\""),
         (dict(tc=-1.0), ValueError, r"tc: -1"),
         (dict(tc=math.inf), ValueError, r"tc: inf"),
         (dict(planes=[(ss.Plane([0, 0, -5], [0, 0, 1]), -2)]), ValueError, r"planes\[0\].material: material -2"),
@@ -328,5 +341,50 @@ def test_material_and_effect_errors_name_the_argument():
         with pytest.raises(error, match=message):
             ss.Simulation.from_spheres(c, v, r, **kw)
     # A pair in a scene that only reports contacts is refused by the world's validation.
-    with pytest.raises(ValueError, match="pair"):
+    with pytest.raises(ValueError, match="the scene's response is `none`"):
         ss.Simulation.from_spheres(c, v, r, response="none", pairs=[(0, 0, 0.5)])
+
+
+_READ_WHILE_ADVANCING = """
+import threading
+import spheresweep as ss
+
+sim = ss.Simulation.periodic_gas(4000, 0.25, seed=9)
+sim.advance_to(0.2)
+errors = []
+
+def run():
+    try:
+        for k in range(1, 6):
+            sim.advance_to(0.2 + 0.2 * k)
+    except Exception as e:
+        errors.append(e)
+
+worker = threading.Thread(target=run)
+worker.start()
+times = []
+while worker.is_alive() and len(times) < 100_000:
+    times.append(sim.time)
+    assert sim.positions.shape == (4000, 3)
+worker.join()
+assert not errors, errors
+assert abs(sim.time - 1.2) < 1e-12 and times, (sim.time, len(times))
+assert times == sorted(times), "a read saw time go backwards"
+print("reads", len(times))
+"""
+
+
+def test_reading_a_simulation_another_thread_advances_does_not_deadlock():
+    # The reader waits for the simulation's lock without the GIL; holding the GIL while it
+    # waited would deadlock with the advancing thread taking the GIL back (the old behaviour
+    # hung here). Run in a child process, so that a deadlock fails the test instead of hanging.
+    import subprocess
+    import sys
+
+    try:
+        out = subprocess.run([sys.executable, "-c", _READ_WHILE_ADVANCING], capture_output=True,
+                             text=True, timeout=120)
+    except subprocess.TimeoutExpired:
+        pytest.fail("deadlock: reading while another thread advances hung for 120 s")
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("reads ")
