@@ -28,6 +28,10 @@ use crate::shape::ShapeKind;
 use crate::store::SphereLanes;
 use crate::{Container, Cylinder, Plane};
 
+/// The largest counter a checkpoint may hold (2⁶⁰: 36 years at 10⁹ events a second); a larger
+/// one is damage, refused at load rather than overflowing later.
+const COUNT_LIMIT: u64 = 1 << 60;
+
 /// A predicted pair contact: when, with whom, and the partner's counter at the prediction (the
 /// prediction is stale once the partner's velocity has changed).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1072,13 +1076,22 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 )));
             }
         }
+        // Counters only grow by one an event: a value no run can reach is damage (found by
+        // fuzzing: a crossings count of 2⁶⁴ − 1 overflowed at the next crossing).
+        let count = |d: &mut Decoder| -> Result<u64, SimError> {
+            let v = d.u64()?;
+            if v > COUNT_LIMIT {
+                return Err(bad(format!("a counter of {v}, beyond any run")));
+            }
+            Ok(v)
+        };
         for x in [
             &mut self.since_reorder,
             &mut self.same_time,
             &mut self.stall_limit,
             &mut self.reorder_every,
         ] {
-            *x = d.u64()?;
+            *x = count(d)?;
         }
         for x in [
             &mut self.window_start,
@@ -1107,7 +1120,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             &mut s.joins,
             &mut s.guarded,
         ] {
-            *x = d.u64()?;
+            *x = count(d)?;
         }
         for x in [&mut s.energy_lost, &mut s.virial, &mut s.max_overlap] {
             *x = d.f64()?;
