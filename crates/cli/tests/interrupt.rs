@@ -5,6 +5,7 @@
 
 mod common;
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
@@ -30,20 +31,28 @@ fn interrupt_once(child: &mut Child, path: &Path, name: &str) -> Output {
         );
         std::thread::sleep(Duration::from_millis(5));
     }
+    let stderr = child.stderr.take().unwrap();
+    stop(child, name, stderr)
+}
+
+/// Sends the signal, waits for the process to end, and reads what is left of its standard
+/// error from `stderr` (the child's, or a reader that already took its first lines).
+fn stop(child: &mut Child, name: &str, mut stderr: impl Read) -> Output {
     signal(child, name);
-    let mut out = Output {
-        status: child.wait().unwrap(),
+    let status = child.wait().unwrap();
+    let mut err = Vec::new();
+    stderr.read_to_end(&mut err).unwrap();
+    Output {
+        status,
         stdout: Vec::new(),
-        stderr: Vec::new(),
-    };
-    use std::io::Read;
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_end(&mut out.stderr)
-        .unwrap();
-    out
+        stderr: err,
+    }
+}
+
+/// No temporary file (`*.tmp`) is left in `dir`.
+fn assert_no_temporaries(dir: &Path) {
+    let left = temporary_files(dir);
+    assert!(left.is_empty(), "{left:?}");
 }
 
 fn temporary_files(dir: &Path) -> Vec<String> {
@@ -156,11 +165,7 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
         b"an earlier run"
     );
     assert!(!dir.join("trajectory.xyz").exists() && !dir.join("checkpoint.bin").exists());
-    assert!(
-        temporary_files(&dir).is_empty(),
-        "{:?}",
-        temporary_files(&dir)
-    );
+    assert_no_temporaries(&dir);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -177,7 +182,6 @@ fn sigterm_stops_demo_without_writing_a_picture() {
     // The demo prints its scene before it simulates.
     let mut stdout = child.stdout.take().unwrap();
     let mut first = [0u8; 1];
-    use std::io::Read;
     stdout.read_exact(&mut first).unwrap();
     std::thread::sleep(Duration::from_millis(300));
     let stopped = interrupt_once(&mut child, &dir, "TERM");
@@ -262,11 +266,7 @@ fn sigterm_stops_query_between_chunks() {
         "{err}"
     );
     assert_eq!(std::fs::read(&output).unwrap(), b"an earlier query");
-    assert!(
-        temporary_files(&dir).is_empty(),
-        "{:?}",
-        temporary_files(&dir)
-    );
+    assert_no_temporaries(&dir);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -334,26 +334,19 @@ fn sigterm_stops_accuracy_before_anything_is_written() {
     // It says when the study starts (the handler is installed by then).
     let mut stderr = child.stderr.take().unwrap();
     let mut first = [0u8; 9];
-    use std::io::Read;
     stderr.read_exact(&mut first).unwrap();
     assert_eq!(&first, b"accuracy:");
     std::thread::sleep(Duration::from_millis(300));
-    signal(&child, "TERM");
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    stderr.read_to_string(&mut err).unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
+    let stopped = stop(&mut child, "TERM", stderr);
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
     assert!(
         err.contains("interrupted during the study: nothing written"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(&report).unwrap(), "earlier report");
     assert_eq!(std::fs::read_to_string(&svg).unwrap(), "earlier picture");
-    assert!(
-        temporary_files(&dir).is_empty(),
-        "{:?}",
-        temporary_files(&dir)
-    );
+    assert_no_temporaries(&dir);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -371,17 +364,10 @@ fn sigint_stops_bench() {
         child.try_wait().unwrap().is_none(),
         "bench ended within 0.5 s"
     );
-    signal(&child, "INT");
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    use std::io::Read;
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
+    let stderr = child.stderr.take().unwrap();
+    let stopped = stop(&mut child, "INT", stderr);
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted the benchmark"), "{err}");
 }
 
@@ -410,14 +396,12 @@ fn sigterm_while_a_large_scene_is_built_ends_at_once() {
     // It says when the build starts (the handler is installed by then).
     let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
     let mut line = String::new();
-    use std::io::{BufRead, Read};
+    use std::io::BufRead;
     stderr.read_line(&mut line).unwrap();
     assert!(line.contains("building 1000000 spheres"), "{line}");
-    signal(&child, "TERM");
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    stderr.read_to_string(&mut err).unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
+    let stopped = stop(&mut child, "TERM", stderr);
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
     assert!(
         err.contains("interrupted while the scene was built: nothing written"),
         "{err}"
