@@ -367,6 +367,9 @@ fn policy_table_for_both_sides() {
         (q(1.0, 1.0, -2.0), Side::Interior, Some(1.0)), // −2, 1: inside, wall at 1
         (q(0.0, 0.0, -2.0), Side::Exterior, None),      // no motion
         (q(0.0, 0.0, 2.0), Side::Interior, None),       // no motion
+        (q(1.0, -1.0, 2.0), Side::Exterior, None),      // disc < 0: passes by
+        (q(1.0, -1.0, 2.0), Side::Interior, Some(0.0)), // past the wall, never back in
+        (q(1.0, -4.0, 2.0), Side::Interior, Some(2.0 + 2f64.sqrt())), // past, back in at 2 − √2
     ];
     for (quad, side, expected) in cases {
         assert_eq!(

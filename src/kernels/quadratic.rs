@@ -220,8 +220,12 @@ impl Solver for Textbook {
         let moving = a.gt(zero);
         let (root, deeper) = match side {
             Side::Exterior => ((-b - sqrt) / two_a, c.le(zero) & b.lt(zero)),
-            // Inside: C ≥ 0 and B ≥ 0 with A > 0 (B = 0: g(t) = A t² + C grows at once).
-            Side::Interior => ((-b + sqrt) / two_a, c.ge(zero) & b.ge(zero)),
+            // Inside: at or past the wall (C ≥ 0) with no way back in: B ≥ 0 (B = 0:
+            // g(t) = A t² + C grows at once), or too slow inwards to get back (disc < 0).
+            Side::Interior => (
+                (-b + sqrt) / two_a,
+                c.ge(zero) & (b.ge(zero) | disc.lt(zero)),
+            ),
         };
         let ahead = moving & disc.ge(zero) & root.gt(zero);
         let t = L::select(ahead, root, zero);
@@ -258,8 +262,10 @@ impl Solver for Stable {
                 let outwards = b.gt(zero);
                 let root = L::select(outwards, c, sqrt - b) / L::select(outwards, -b - sqrt, a);
                 let ahead = moving & q.ge(zero) & root.gt(zero);
-                // B = 0 with A > 0 moves deeper too: g(t) = A t² + C grows at once.
-                let deeper = moving & c.ge(zero) & b.ge(zero);
+                // At or past the wall with no way back in: moving outwards or tangentially
+                // (B = 0 with A > 0: g(t) = A t² + C grows at once), or inwards too slowly ever
+                // to get back inside (q < 0). reference::quadratic::in_contact_now.
+                let deeper = moving & c.ge(zero) & (b.ge(zero) | q.lt(zero));
                 (L::select(ahead, root, zero), ahead | deeper)
             }
         };

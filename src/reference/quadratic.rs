@@ -7,9 +7,10 @@
 //!   exterior contact, the larger one for a sphere inside a container.
 //! - A root `t > 0` inside the window is the contact. A grazing contact (`B² − 4AC = 0`)
 //!   counts.
-//! - At `t = 0` there is a contact only if the bodies already touch or overlap **and** move
-//!   deeper (`C ≤ 0, B < 0` outside; `C ≥ 0` and `B > 0`, or `B = 0` with `A > 0`, inside).
-//!   Touching and separating, or at rest, is no contact.
+//! - At `t = 0` there is a contact only if the bodies already touch or overlap and no arrival
+//!   lies ahead: outside, when they move deeper (`C ≤ 0, B < 0`); inside a container, when the
+//!   sphere is at or past the wall (`C ≥ 0`, `A > 0`) and its line does not lead back inside
+//!   (`B ≥ 0`, or `B² − 4AC < 0`). Touching and separating, or at rest, is no contact.
 
 use crate::contact::Side;
 
@@ -128,25 +129,36 @@ impl Roots {
     }
 }
 
-/// Already touching or past the contact distance, and moving deeper, at `t = 0`. Inside a
-/// container `B = 0` with `A > 0` counts: `g(t) = A t² + C` grows at once (a sphere touching
-/// the wall and moving tangentially, or fitting exactly and moving, leaves at once). Outside,
-/// the same case separates.
+/// Already touching or past the contact distance at `t = 0`, with no arrival ahead to wait
+/// for: a contact now.
+///
+/// - Outside: overlapping or touching (`C ≤ 0`) and approaching (`B < 0`).
+/// - Inside a container: at or past the wall (`C ≥ 0`), moving (`A > 0`), and the line does
+///   not lead back inside: moving outwards or tangentially (`B ≥ 0`: both roots are behind),
+///   or inwards too slowly ever to get back inside (`B < 0` with `B² − 4AC < 0`: no root). In
+///   the second case the sphere would stay through the wall for ever; until 2026-12-01 it was
+///   answered "no contact", and a sphere whose inelastic bounces had decayed to a normal speed
+///   within the rounding of `C` left its vessel (docs/derivations/simulation.md, "Concave
+///   walls").
 ///
 /// ```
-/// use spheresweep::reference::{Quadratic, Side, quadratic::moving_deeper};
+/// use spheresweep::reference::{Quadratic, Side, quadratic::in_contact_now};
 /// // Touching (C = 0) and approaching (B < 0) from outside: a contact at t = 0.
-/// assert!(moving_deeper(Side::Exterior, &Quadratic { a: 1.0, b: -2.0, c: 0.0 }));
+/// assert!(in_contact_now(Side::Exterior, &Quadratic { a: 1.0, b: -2.0, c: 0.0 }));
 /// // Touching and separating (B > 0): none.
-/// assert!(!moving_deeper(Side::Exterior, &Quadratic { a: 1.0, b: 2.0, c: 0.0 }));
+/// assert!(!in_contact_now(Side::Exterior, &Quadratic { a: 1.0, b: 2.0, c: 0.0 }));
 /// // At the wall of a container, moving tangentially (B = 0, A > 0): leaving at once.
-/// assert!(moving_deeper(Side::Interior, &Quadratic { a: 1.0, b: 0.0, c: 0.0 }));
+/// assert!(in_contact_now(Side::Interior, &Quadratic { a: 1.0, b: 0.0, c: 0.0 }));
+/// // Just past the wall, moving inwards too slowly to get back in (B² < 4AC): now.
+/// assert!(in_contact_now(Side::Interior, &Quadratic { a: 1.0, b: -1e-9, c: 1e-15 }));
+/// // Past the wall and moving inwards fast enough (B² > 4AC): it comes back, not now.
+/// assert!(!in_contact_now(Side::Interior, &Quadratic { a: 1.0, b: -1e-6, c: 1e-15 }));
 /// ```
 #[inline]
-pub fn moving_deeper(side: Side, q: &Quadratic) -> bool {
+pub fn in_contact_now(side: Side, q: &Quadratic) -> bool {
     match side {
         Side::Exterior => q.c <= 0.0 && q.b < 0.0,
-        Side::Interior => q.c >= 0.0 && (q.b > 0.0 || (q.b == 0.0 && q.a > 0.0)),
+        Side::Interior => q.c >= 0.0 && q.a > 0.0 && (q.b >= 0.0 || q.discriminant() < 0.0),
     }
 }
 
@@ -171,7 +183,7 @@ pub fn earliest_contact(q: &Quadratic, side: Side, t_max: f64) -> Option<f64> {
     };
     let t = match arrival {
         Some(t) if t > 0.0 => t,
-        _ if moving_deeper(side, q) => 0.0,
+        _ if in_contact_now(side, q) => 0.0,
         _ => return None,
     };
     (t <= t_max).then_some(t)

@@ -440,10 +440,11 @@ impl Exact {
                         cf / (-bf - qf.sqrt())
                     };
                     Some(t.min(t_max))
-                } else if *c >= zero && (*b > zero || (*b == zero && *a > zero)) {
-                    // At or beyond the wall and not moving back inwards: moving outwards, or
-                    // tangentially (`b = 0`, `A > 0`: touching and sliding along the wall, or
-                    // an exact fit `D = 0` that moves at all).
+                } else if *c >= zero {
+                    // At or beyond the wall (`A > 0` here) with no way back inside: moving
+                    // outwards, or tangentially (`b = 0`: touching and sliding along the wall,
+                    // or an exact fit `D = 0` that moves at all), or inwards too slowly ever to
+                    // get back (`b < 0` with `q < 0`).
                     Some(0.0)
                 } else {
                     None
