@@ -88,3 +88,26 @@ pub enum Error {
     #[error(transparent)]
     Batch(#[from] crate::batch::BatchError),
 }
+
+/// A number as messages print it: plainly between `10⁻⁴` and `10⁶` (and `0`), in scientific
+/// notation beyond, so that `1e300` reads as `1e300` and not as 301 digits.
+///
+/// ```
+/// # use spheresweep::error::Num;
+/// assert_eq!(Num(2.5).to_string(), "2.5");
+/// assert_eq!(Num(1e300).to_string(), "1e300");
+/// assert_eq!(Num(-3e-7).to_string(), "-3e-7");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e6).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}

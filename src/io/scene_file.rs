@@ -883,9 +883,16 @@ impl SceneFile {
     }
 
     fn sim_error(&self, item: impl Into<String>, path: &[Seg], source: SimError) -> SceneFileError {
+        // A generator's refusal names its field: point at that field's line.
+        let mut path = path.to_vec();
+        if let SimError::Generate { field, .. } = &source
+            && !field.is_empty()
+        {
+            path.push(Key(field));
+        }
         SceneFileError::Sim {
             file: self.origin.file.clone(),
-            line: self.line(path),
+            line: self.line(&path),
             item: item.into(),
             source,
         }

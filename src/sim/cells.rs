@@ -122,6 +122,11 @@ impl Cells {
         self.count[cell] -= 1;
     }
 
+    /// Cells in the grid.
+    pub fn cell_count(&self) -> usize {
+        self.count.len()
+    }
+
     /// Bytes the grid holds.
     pub fn bytes(&self) -> usize {
         self.slots.capacity() * 4

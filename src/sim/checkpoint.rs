@@ -11,7 +11,7 @@
 use super::model::SimError;
 
 /// Format version; bump when the layout changes.
-pub(crate) const VERSION: u32 = 1;
+pub(crate) const VERSION: u32 = 2;
 pub(crate) const MAGIC: &[u8; 4] = b"SSCK";
 
 /// Appends values to a byte buffer.

@@ -19,7 +19,7 @@ use super::cells::{Cells, NONE};
 use super::checkpoint::{Decoder, Encoder};
 use super::predict::{PairBatch, refine};
 use super::queue::{Calendar, Entry};
-use super::response::{Body as Dyn, Motion, Outcome, Responder};
+use super::response::{Body as Dyn, Motion, Outcome, Responder, Wall};
 use super::{EventRecord, KernelCounts, SimError, Stats};
 use crate::contact::{Body, unit_axis, unit_normal};
 use crate::kernels::StaticKernel;
@@ -262,7 +262,48 @@ impl Walls {
             }
         }
     }
+
+    /// Fault injection only: whether a sphere is at or past container `body`'s wall moving
+    /// inwards (the case the old policy answered as no contact when it never got back in).
+    pub fn past_and_inwards(&self, body: Body, r: DVec3, v: DVec3, radius: f64) -> bool {
+        if body.kind != ShapeKind::Container {
+            return false;
+        }
+        let c = &self.containers[body.index as usize].0;
+        let x = r - c.centre().as_dvec3();
+        let d = f64::from(c.radius()) - radius;
+        x.length_squared() >= d * d && x.dot(v) < 0.0
+    }
+
+    /// The least angle (its sine) at which a sphere of `radius`, `gap` from the wall `body` (negative
+    /// when past it), moving at `speed`, may leave it at time `now`: `0` for a plane or a
+    /// cylinder (convex: a straight line that leaves one never meets it again). For a container
+    /// `κ² = 2⁻²⁴ + 2⁻⁴⁴ (‖c‖ + D + speed·now) / D`, far above the rounding of the kernel's `C`
+    /// at the wall, and at least `2 √(2 depth / D)` for a sphere `depth` past the wall, so that
+    /// its line leads back inside (docs/derivations/simulation.md, "Concave walls").
+    pub fn floor(&self, body: Body, radius: f64, gap: f64, speed: f64, now: f64) -> f64 {
+        if body.kind != ShapeKind::Container {
+            return 0.0;
+        }
+        let c = &self.containers[body.index as usize].0;
+        let d = f64::from(c.radius()) - radius;
+        if d <= 0.0 {
+            // A sphere that fits exactly (or not at all) can only go straight back.
+            return 1.0;
+        }
+        let scale = (c.centre().as_dvec3().length() + d + speed * now.abs()) / d;
+        let base = (WALL_FLOOR_SQUARED + WALL_FLOOR_ROUNDING * scale).sqrt();
+        let depth = (-gap).max(0.0);
+        base.max(2.0 * (2.0 * depth / d).sqrt()).min(1.0)
+    }
 }
+
+/// `κ²` of a container's floor angle where rounding does not matter: `2⁻²⁴` (the sphere leaves
+/// at `2⁻¹²` rad, about 0.014°, or more).
+const WALL_FLOOR_SQUARED: f64 = 1.0 / (1u64 << 24) as f64;
+/// What rounding adds to `κ²`, per unit of `(‖c‖ + D + speed·now) / D`: `2⁻⁴⁴`, 2⁸ times the
+/// bound on the kernel's relative error in `C` at the wall.
+const WALL_FLOOR_ROUNDING: f64 = 1.0 / (1u64 << 44) as f64;
 
 /// Everything that is not the response: the engine state.
 pub(crate) struct Engine<
@@ -304,6 +345,13 @@ pub(crate) struct Engine<
     pub reorder_every: u64,
     since_reorder: u64,
     width: f64,
+    /// Fault injection for the tests that show the invariant check fires: the concave-wall
+    /// floor off and the old container policy (see `Simulation::break_walls_for_testing`).
+    pub broken_walls: bool,
+    /// Periodic boxes only (else empty): how many times each sphere has been wrapped across
+    /// each axis (`+1` leaving through the upper face), so that its unwrapped position is its
+    /// position plus `images · len`.
+    pub images: Vec<[i64; 3]>,
 }
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
@@ -369,6 +417,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             reorder_every: 32 * n as u64 + 1024,
             since_reorder: 0,
             width: 1.0,
+            broken_walls: false,
+            images: if PERIODIC {
+                vec![[0; 3]; n]
+            } else {
+                Vec::new()
+            },
             m,
         };
         for i in 0..n as u32 {
@@ -517,9 +571,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             if c[axis] == n {
                 c[axis] = 0;
                 *r -= len;
+                self.images[i as usize][axis] += 1;
             } else if c[axis] < 0 {
                 c[axis] = n - 1;
                 *r += len;
+                self.images[i as usize][axis] -= 1;
             }
         }
         self.cells.remove(i);
@@ -586,10 +642,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.m.advance(i, now);
         let bi = self.m.bodies[i as usize];
         let (n, gap, material) = self.walls.normal_gap(wall, bi.r, bi.radius);
-        self.stats.max_overlap = self.stats.max_overlap.max(-gap / bi.radius);
+        self.stats.max_wall_overlap = self.stats.max_wall_overlap.max(-gap / bi.radius);
+        let floor = if self.broken_walls {
+            0.0
+        } else {
+            self.walls.floor(wall, bi.radius, gap, bi.v.length(), now)
+        };
         let mut out = std::mem::take(&mut self.outcome).cleared();
-        self.responder
-            .wall(&mut self.m, i, n, material, now, &mut out);
+        let contact = Wall { n, material, floor };
+        self.responder.wall(&mut self.m, i, contact, now, &mut out);
         self.stats.wall_collisions += 1;
         self.account(&out);
         if let Some(log) = &mut self.log {
@@ -616,6 +677,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.stats.virial += out.virial;
         self.stats.joins += u64::from(out.joined);
         self.stats.guarded += u64::from(out.guarded);
+        self.stats.slid += u64::from(out.slid);
     }
 
     /// Pushes sphere `i`'s pending event (a new version; older entries go stale).
@@ -649,9 +711,16 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         };
         if WALLS {
             let b = self.m.bodies[i as usize];
-            let (t, wall) = self
+            let (mut t, wall) = self
                 .walls
                 .earliest(b.r, b.v, b.radius, &mut self.stats.kernels);
+            if self.broken_walls
+                && t == 0.0
+                && self.walls.past_and_inwards(wall, b.r, b.v, b.radius)
+            {
+                // The policy before 2026-12-01: past the wall, inwards, never back in: none.
+                t = f64::INFINITY;
+            }
             let best = &mut self.best[i as usize];
             best.wall_t = self.now + t;
             best.wall = wall;
@@ -842,29 +911,105 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         (top, complete)
     }
 
-    /// Test-only: no pair of spheres (any image) meets before the earlier of their two
-    /// pending events, checked by brute force in f64 after event of sphere `s`. A broken
-    /// prediction, stale-candidate rule or merge would let a collision pass unseen.
+    /// Test-only: after the event of sphere `s`, no pair of spheres (any image) comes closer
+    /// than the overlap tolerance before the earlier of their two pending events, and no
+    /// sphere gets through a static shape before its own — checked by brute force in f64 from
+    /// the closest approach of the straight lines over that interval (a closed form, no root
+    /// solver shared with the predictions). A broken prediction, stale-candidate rule, merge,
+    /// wall policy or cluster motion would let a collision through. Members of one cluster
+    /// move together and are never in each other's events: they are checked to stay at their
+    /// distance.
     #[cfg(test)]
     fn check_invariant(&self, s: u32) {
+        use crate::sim::OVERLAP_TOLERANCE;
         let n = self.m.bodies.len();
         let len = self.cells.len;
+        let at_now = |b: &Dyn| b.r + b.v * (self.now - b.t);
+        // How close `r0 + v t` comes to the origin over `[0, t_end]` (`t_end` may be ∞).
+        let closest = |r0: DVec3, v: DVec3, t_end: f64| {
+            let a = v.length_squared();
+            let t = if a > 0.0 {
+                (-r0.dot(v) / a).clamp(0.0, t_end)
+            } else {
+                0.0
+            };
+            (r0 + v * t).length()
+        };
         for i in 0..n {
+            let bi = &self.m.bodies[i];
+            let ri = at_now(bi);
+            let ti = self.scheduled[i] - self.now;
             for j in i + 1..n {
-                let (bi, bj) = (&self.m.bodies[i], &self.m.bodies[j]);
-                let ri = bi.r + bi.v * (self.now - bi.t);
-                let rj = bj.r + bj.v * (self.now - bj.t);
-                let mut dr = rj - ri;
+                let bj = &self.m.bodies[j];
+                let mut dr = at_now(bj) - ri;
                 if PERIODIC {
                     dr -= len * (dr / len).round();
                 }
-                let t = refine([dr; 4], [bj.v - bi.v; 4], [bi.radius + bj.radius; 4])[0];
-                let (ti, tj) = (self.scheduled[i], self.scheduled[j]);
+                let horizon = ti.min(self.scheduled[j] - self.now).max(0.0);
+                let d = bi.radius + bj.radius;
+                let depth = d - closest(dr, bj.v - bi.v, horizon);
                 assert!(
-                    self.now + t >= ti.min(tj) - 1e-9 || t.is_nan(),
-                    "after the event of sphere {s} at t = {}: spheres {i} and {j} meet at {} but their next events are at {ti} and {tj}",
+                    depth <= OVERLAP_TOLERANCE * d,
+                    "after the event of sphere {s} at t = {}: spheres {i} and {j} overlap by \
+                     {depth:e} before their next events at {} and {}",
                     self.now,
-                    self.now + t
+                    self.scheduled[i],
+                    self.scheduled[j]
+                );
+            }
+            // Static shapes: a plane's distance is linear and a container's gap concave in t,
+            // so their deepest point is at an end of the interval; a cylinder's perpendicular
+            // distance is the closest approach of the projected lines.
+            let horizon = ti.max(0.0);
+            let end = if horizon.is_finite() {
+                ri + bi.v * horizon
+            } else {
+                ri + bi.v * 1e12
+            };
+            let tolerance = OVERLAP_TOLERANCE * bi.radius;
+            for (k, (p, _)) in self.walls.planes.iter().enumerate() {
+                let nrm = unit_normal(p);
+                let (d0, d1) = (
+                    (ri - p.point().as_dvec3()).dot(nrm),
+                    (end - p.point().as_dvec3()).dot(nrm),
+                );
+                let depth = if d0 >= 0.0 {
+                    bi.radius - d0.min(d1)
+                } else {
+                    bi.radius + d0.max(d1)
+                };
+                assert!(
+                    depth <= tolerance,
+                    "after the event of sphere {s} at t = {}: sphere {i} gets {depth:e} through \
+                     plane {k} before its next event at {}",
+                    self.now,
+                    self.scheduled[i]
+                );
+            }
+            for (k, (c, _)) in self.walls.cylinders.iter().enumerate() {
+                let axis = unit_axis(c);
+                let x = ri - c.point().as_dvec3();
+                let perp = |u: DVec3| u - axis * u.dot(axis);
+                let gap = closest(perp(x), perp(bi.v), horizon) - bi.radius - f64::from(c.radius());
+                assert!(
+                    -gap <= tolerance,
+                    "after the event of sphere {s} at t = {}: sphere {i} gets {:e} through \
+                     cylinder {k} before its next event at {}",
+                    self.now,
+                    -gap,
+                    self.scheduled[i]
+                );
+            }
+            for (k, (c, _)) in self.walls.containers.iter().enumerate() {
+                let centre = c.centre().as_dvec3();
+                let out = (ri - centre).length().max((end - centre).length()) + bi.radius
+                    - f64::from(c.radius());
+                assert!(
+                    out <= tolerance,
+                    "after the event of sphere {s} at t = {}: sphere {i} gets {out:e} past the \
+                     wall of container {k} before its next event at {}",
+                    self.now,
+                    self.scheduled[i]
                 );
             }
         }
@@ -936,6 +1081,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             e.u8(b.cross_axis);
             e.u8(u8::from(b.cross_up));
         }
+        for image in &self.images {
+            for &k in image {
+                e.u64(k as u64);
+            }
+        }
         for x in [
             self.since_reorder,
             self.same_time,
@@ -960,10 +1110,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             s.kernels.container,
             s.joins,
             s.guarded,
+            s.slid,
         ] {
             e.u64(x);
         }
-        for x in [s.energy_lost, s.virial, s.max_overlap] {
+        for x in [s.energy_lost, s.virial, s.max_overlap, s.max_wall_overlap] {
             e.f64(x);
         }
         self.responder.save(e);
@@ -1076,6 +1227,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 )));
             }
         }
+        for image in &mut self.images {
+            for k in image.iter_mut() {
+                *k = d.u64()? as i64;
+                if k.unsigned_abs() > COUNT_LIMIT {
+                    return Err(bad(format!("an image count of {k}, beyond any run")));
+                }
+            }
+        }
         // Counters only grow by one an event: a value no run can reach is damage (found by
         // fuzzing: a crossings count of 2⁶⁴ − 1 overflowed at the next crossing).
         let count = |d: &mut Decoder| -> Result<u64, SimError> {
@@ -1119,10 +1278,16 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             &mut s.kernels.container,
             &mut s.joins,
             &mut s.guarded,
+            &mut s.slid,
         ] {
             *x = count(d)?;
         }
-        for x in [&mut s.energy_lost, &mut s.virial, &mut s.max_overlap] {
+        for x in [
+            &mut s.energy_lost,
+            &mut s.virial,
+            &mut s.max_overlap,
+            &mut s.max_wall_overlap,
+        ] {
             *x = d.f64()?;
         }
         self.responder.load(d, n)?;
@@ -1139,11 +1304,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         if let Some(log) = &mut self.log {
             log.clear();
         }
-        self.version = vec![0; n];
-        self.queue = Calendar::new(self.width, n, self.now);
-        for i in 0..n as u32 {
-            self.schedule(i);
-        }
+        self.reschedule();
         Ok(())
     }
 
@@ -1179,11 +1340,41 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         for (i, &c) in at.iter().enumerate() {
             self.cells.insert(i as u32, c);
         }
+        if PERIODIC {
+            self.images = take(&self.images, &order);
+        }
         self.responder.permute(&new_of_old);
+        self.reschedule();
+    }
+
+    /// A fresh calendar holding each sphere's pending event (older entries all dropped).
+    fn reschedule(&mut self) {
+        let n = self.m.bodies.len();
         self.version = vec![0; n];
         self.queue = Calendar::new(self.width, n, self.now);
         for i in 0..n as u32 {
             self.schedule(i);
         }
+    }
+
+    /// Gives every sphere a new velocity now (`v` in public order, already checked finite,
+    /// the responder's own rules checked here) and predicts every sphere again.
+    pub fn set_velocities(&mut self, v: &[DVec3]) -> Result<(), SimError> {
+        let n = self.m.bodies.len();
+        let id_of = &self.id_of;
+        self.responder
+            .check_velocities(&|k| v[id_of[k as usize] as usize], n)
+            .map_err(|(k, why)| {
+                SimError::State(format!("velocities: sphere {}: {why}", id_of[k as usize]))
+            })?;
+        for k in 0..n {
+            let new = v[self.id_of[k] as usize];
+            self.m.set_velocity(k as u32, new, self.now);
+        }
+        for k in 0..n as u32 {
+            self.predict(k);
+        }
+        self.reschedule();
+        Ok(())
     }
 }

@@ -7,7 +7,27 @@ use glam::DVec3;
 
 use super::cells::Cells;
 use super::model::{Boundary, SimError, SphereState, World};
+use crate::error::Num;
 use crate::rng::Rng;
+
+/// A generator's refusal of one parameter.
+fn refuse<T>(generator: &'static str, field: &'static str, problem: String) -> Result<T, SimError> {
+    Err(SimError::Generate {
+        generator,
+        field,
+        problem,
+    })
+}
+
+/// An empty vector with room for `n` items, or the memory error (never an abort).
+pub(crate) fn room<T>(n: usize, what: &str) -> Result<Vec<T>, SimError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| SimError::Memory {
+        what: format!("{what} ({n} items)"),
+        bytes: n.saturating_mul(std::mem::size_of::<T>()),
+    })?;
+    Ok(v)
+}
 
 /// Gaussian velocities for unit-free masses, zero total momentum, kinetic energy `3/2 N kT`.
 ///
@@ -71,28 +91,58 @@ pub fn periodic_gas(
     seed: u64,
 ) -> Result<(), SimError> {
     // FCC touches at φ = π/(3√2) ≈ 0.7405 when every site is filled.
-    let bad = |what: String| Err(SimError::Effects(format!("periodic gas: {what}")));
+    const G: &str = "periodic gas";
     if n == 0 || n > 1 << 28 {
-        return bad(format!("n = {n} must be in 1..=2^28"));
+        return refuse(G, "n", format!("n = {n} must be in 1..=2^28"));
     }
     if !(phi > 0.0 && phi < 0.7) {
-        return bad(format!("packing fraction {phi} must be in (0, 0.7)"));
+        return refuse(G, "phi", format!("phi = {} must be in (0, 0.7)", Num(phi)));
     }
-    if !(radius > 0.0 && radius.is_finite() && kt >= 0.0 && kt.is_finite()) {
-        return bad(format!(
-            "radius {radius} and kT {kt} must be finite, radius > 0, kT ≥ 0"
-        ));
+    if !(radius > 0.0 && radius.is_finite()) {
+        return refuse(
+            G,
+            "radius",
+            format!("radius = {} must be finite and greater than 0", Num(radius)),
+        );
+    }
+    if !(kt >= 0.0 && kt.is_finite()) {
+        return refuse(
+            G,
+            "temperature",
+            format!("temperature = {} must be finite and at least 0", Num(kt)),
+        );
     }
     let m = ((n as f64 / 4.0).cbrt().ceil() as usize).max(1);
-    let volume = n as f64 * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3) / phi;
-    let side = volume.cbrt();
+    let sphere_volume = 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+    let side = (n as f64 * sphere_volume / phi).cbrt();
+    // The engine needs a box of at least three diameters a side (its cells).
+    let needed = 3.0 * 2.0 * radius * (1.0 + 1e-6);
+    if side < needed {
+        let fewest = (needed.powi(3) * phi / sphere_volume).ceil();
+        return refuse(
+            G,
+            "n",
+            format!(
+                "{n} spheres at phi = {} fill a periodic box of side {}, less than the three \
+                 diameters ({}) the engine needs: use at least {fewest} spheres, or a lower phi",
+                Num(phi),
+                Num(side),
+                Num(needed)
+            ),
+        );
+    }
     let a = side / m as f64;
     if a / std::f64::consts::SQRT_2 < 2.0 * radius * (1.0 + 1e-9) {
-        return bad(format!(
-            "packing fraction {phi} is too dense for {n} spheres on {m}³ FCC cells"
-        ));
+        return refuse(
+            G,
+            "phi",
+            format!(
+                "phi = {} is too dense for {n} spheres on {m}³ FCC cells",
+                Num(phi)
+            ),
+        );
     }
-    let mut sites = Vec::with_capacity(4 * m * m * m);
+    let mut sites = room(4 * m * m * m, "a periodic gas's lattice sites")?;
     let basis = [
         [0.0, 0.0, 0.0],
         [0.5, 0.5, 0.0],
@@ -169,15 +219,19 @@ pub fn random_spheres(
     material: u16,
     seed: u64,
 ) -> Result<Vec<SphereState>, SimError> {
-    if !(radius > 0.0
-        && radius.is_finite()
-        && speed.is_finite()
-        && lo.is_finite()
-        && hi.is_finite())
-    {
-        return Err(SimError::Effects(format!(
-            "random spheres: radius {radius} and speed {speed} must be finite, radius > 0"
-        )));
+    const G: &str = "random spheres";
+    if !(radius > 0.0 && radius.is_finite()) {
+        return refuse(
+            G,
+            "radius",
+            format!("radius = {} must be finite and greater than 0", Num(radius)),
+        );
+    }
+    if !speed.is_finite() {
+        return refuse(G, "speed", format!("speed = {speed} must be finite"));
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return refuse(G, "lo", format!("the region [{lo}, {hi}] must be finite"));
     }
     let mut rng = Rng::new(seed);
     let mut cells = Cells::new(
@@ -187,7 +241,7 @@ pub fn random_spheres(
         4 * n + 64,
         n,
     );
-    let mut out: Vec<SphereState> = Vec::with_capacity(n);
+    let mut out: Vec<SphereState> = room(n, "random spheres")?;
     let mut misses = 0;
     while out.len() < n {
         let p = DVec3::new(
@@ -227,10 +281,15 @@ pub fn random_spheres(
         } else {
             misses += 1;
             if misses > 1000 {
-                return Err(SimError::Effects(format!(
-                    "random spheres: no room for sphere {} of {n} after 1000 attempts (too dense for random placement)",
-                    out.len()
-                )));
+                return refuse(
+                    G,
+                    "",
+                    format!(
+                        "no room for sphere {} of {n} after 1000 attempts (too dense for random \
+                         placement)",
+                        out.len()
+                    ),
+                );
             }
         }
     }
@@ -266,41 +325,75 @@ pub fn nozzle(
     material: u16,
     seed: u64,
 ) -> Result<Vec<SphereState>, SimError> {
+    const G: &str = "nozzle";
     let dir = direction.normalize_or_zero();
-    if dir == DVec3::ZERO
-        || !(spacing >= 2.0 * radius && spacing.is_finite())
-        || !(jitter >= 0.0 && jitter < spacing)
-    {
-        return Err(SimError::Effects(format!(
-            "nozzle: direction must be non-zero, spacing {spacing} at least a diameter ({}), jitter {jitter} in [0, spacing)",
-            2.0 * radius
-        )));
+    if !direction.is_finite() || dir == DVec3::ZERO {
+        return refuse(
+            G,
+            "direction",
+            format!("direction = {direction} must be finite and non-zero"),
+        );
     }
+    if !(radius > 0.0 && radius.is_finite()) {
+        return refuse(
+            G,
+            "radius",
+            format!("radius = {} must be finite and greater than 0", Num(radius)),
+        );
+    }
+    if !speed.is_finite() {
+        return refuse(G, "speed", format!("speed = {speed} must be finite"));
+    }
+    if !(spacing >= 2.0 * radius && spacing.is_finite()) {
+        return refuse(
+            G,
+            "spacing",
+            format!(
+                "spacing = {} must be finite and at least a diameter ({})",
+                Num(spacing),
+                Num(2.0 * radius)
+            ),
+        );
+    }
+    if !(jitter >= 0.0 && jitter < spacing) {
+        return refuse(
+            G,
+            "jitter",
+            format!(
+                "jitter = {} must be at least 0 and less than the spacing ({})",
+                Num(jitter),
+                Num(spacing)
+            ),
+        );
+    }
+    if !spread.is_finite() {
+        return refuse(G, "spread", format!("spread = {spread} must be finite"));
+    }
+    let mut out = room(n, "a nozzle's spheres")?;
     let mut rng = Rng::new(seed);
     let side = rng.perpendicular(dir);
     let up = dir.cross(side);
     // Columns spaced a diameter apart sideways never overlap: the jitter stays within half
     // the spacing minus a diameter along the stream.
     let along_jitter = ((spacing - 2.0 * radius) / 2.0).max(0.0);
-    Ok((0..n)
-        .map(|k| {
-            let angle = rng.unit() * std::f64::consts::TAU;
-            let off = (side * angle.cos() + up * angle.sin()) * (jitter * rng.unit());
-            let centre = origin - dir * (k as f64 * spacing)
-                + dir * rng.range(-along_jitter, along_jitter)
-                + off;
-            let tilt = spread * rng.unit().sqrt();
-            let a2 = rng.unit() * std::f64::consts::TAU;
-            let v = (dir * tilt.cos() + (side * a2.cos() + up * a2.sin()) * tilt.sin()) * speed;
-            SphereState {
-                centre,
-                velocity: v,
-                radius,
-                mass: 1.0,
-                material,
-            }
-        })
-        .collect())
+    out.extend((0..n).map(|k| {
+        let angle = rng.unit() * std::f64::consts::TAU;
+        let off = (side * angle.cos() + up * angle.sin()) * (jitter * rng.unit());
+        let centre = origin - dir * (k as f64 * spacing)
+            + dir * rng.range(-along_jitter, along_jitter)
+            + off;
+        let tilt = spread * rng.unit().sqrt();
+        let a2 = rng.unit() * std::f64::consts::TAU;
+        let v = (dir * tilt.cos() + (side * a2.cos() + up * a2.sin()) * tilt.sin()) * speed;
+        SphereState {
+            centre,
+            velocity: v,
+            radius,
+            mass: 1.0,
+            material,
+        }
+    }));
+    Ok(out)
 }
 
 /// Spheres on a simple cubic lattice: `counts` per axis from `lo`, `spacing` apart (at least a
@@ -323,14 +416,32 @@ pub fn cubic_lattice(
     material: u16,
     seed: u64,
 ) -> Result<Vec<SphereState>, SimError> {
-    if !(spacing >= 2.0 * radius && radius > 0.0 && spacing.is_finite()) {
-        return Err(SimError::Effects(format!(
-            "lattice: spacing {spacing} must be at least a diameter ({})",
-            2.0 * radius
-        )));
+    const G: &str = "lattice";
+    if !(radius > 0.0 && radius.is_finite()) {
+        return refuse(
+            G,
+            "radius",
+            format!("radius = {} must be finite and greater than 0", Num(radius)),
+        );
     }
+    if !(spacing >= 2.0 * radius && spacing.is_finite()) {
+        return refuse(
+            G,
+            "spacing",
+            format!(
+                "spacing = {} must be finite and at least a diameter ({})",
+                Num(spacing),
+                Num(2.0 * radius)
+            ),
+        );
+    }
+    if !(lo.is_finite() && speed.is_finite()) {
+        let field = if lo.is_finite() { "speed" } else { "lo" };
+        return refuse(G, field, format!("{field} must be finite"));
+    }
+    let count = counts.iter().try_fold(1usize, |a, &c| a.checked_mul(c));
     let mut rng = Rng::new(seed);
-    let mut out = Vec::new();
+    let mut out = room(count.unwrap_or(usize::MAX), "a lattice's spheres")?;
     for z in 0..counts[2] {
         for y in 0..counts[1] {
             for x in 0..counts[0] {

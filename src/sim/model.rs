@@ -171,7 +171,9 @@ pub enum SimError {
     },
     /// A periodic box is too small for its spheres or not valid.
     #[error(
-        "periodic box {axis}: length {length} must be finite and at least three largest diameters ({needed})"
+        "periodic box {axis}: length {} must be finite and at least three largest diameters ({})",
+        crate::error::Num(*length),
+        crate::error::Num(*needed)
     )]
     Box {
         /// `"x"`, `"y"` or `"z"`.
@@ -184,8 +186,40 @@ pub enum SimError {
     /// An effect's parameter is out of range.
     #[error("effects: {0}")]
     Effects(String),
+    /// A generator's parameter is out of range (`sim::generate`), or it could not place its
+    /// spheres.
+    #[error("{generator}: {problem}")]
+    Generate {
+        /// `"periodic gas"`, `"random spheres"`, `"nozzle"`, `"lattice"`.
+        generator: &'static str,
+        /// The parameter at fault, as the scene file names it (`"spacing"`, `"phi"`, …), or
+        /// `""` when the failure is not one parameter's (no room left for a random sphere).
+        field: &'static str,
+        /// What is wrong, naming the value.
+        problem: String,
+    },
+    /// Not enough memory for what was asked: refused before anything was allocated.
+    #[error("{what} needs about {} MiB, which could not be allocated", bytes / (1 << 20))]
+    Memory {
+        /// What needed it.
+        what: String,
+        /// Bytes asked for.
+        bytes: usize,
+    },
+    /// A new state given for the spheres does not fit them ([`Simulation::set_velocities`]
+    /// (super::Simulation::set_velocities)).
+    #[error("{0}")]
+    State(String),
     /// A time that is not finite or lies before the simulation's current time.
-    #[error("cannot advance to t = {to}: the simulation is at t = {now}")]
+    #[error(
+        "cannot advance to t = {}: {}",
+        crate::error::Num(*to),
+        if to.is_finite() {
+            format!("the simulation is at t = {}", crate::error::Num(*now))
+        } else {
+            "a time must be finite".to_string()
+        }
+    )]
     Time {
         /// The current time.
         now: f64,
@@ -195,10 +229,31 @@ pub enum SimError {
     /// A checkpoint could not be restored.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
+    /// The state broke the invariant every run keeps ([`Simulation::check_invariant`]
+    /// (super::Simulation::check_invariant)): a bug in the engine, never the scene's fault.
+    #[error(
+        "t = {}: sphere {sphere} is {} by {depth:e}, beyond the tolerance {tolerance:e}: the \
+         simulation broke its invariant (a bug in spheresweep; please report it with the scene)",
+        crate::error::Num(*time),
+        breach_what(other)
+    )]
+    Breach {
+        /// When.
+        time: f64,
+        /// The sphere (public index).
+        sphere: usize,
+        /// What it overlaps or is through (a sphere's index is public too).
+        other: crate::contact::Body,
+        /// How far (a length).
+        depth: f64,
+        /// The tolerance it exceeds (a length).
+        tolerance: f64,
+    },
     /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a
     /// sphere's mean time between events (an inelastic collapse, or a bug).
     #[error(
-        "stalled at t = {time}: {events} events without time advancing (a dense inelastic pile needs the TC model, `tc > 0`)"
+        "stalled at t = {}: {events} events without time advancing (a dense inelastic pile needs the TC model, `tc > 0`)",
+        crate::error::Num(*time)
     )]
     Stalled {
         /// When.
@@ -206,6 +261,17 @@ pub enum SimError {
         /// How many events at that time.
         events: u64,
     },
+}
+
+/// How a breach of the invariant reads: "overlapping sphere 3", "past the wall of container 0".
+fn breach_what(other: &crate::contact::Body) -> String {
+    use crate::ShapeKind;
+    match other.kind {
+        ShapeKind::Sphere => format!("overlapping sphere {}", other.index),
+        ShapeKind::Plane => format!("through plane {} (or across it)", other.index),
+        ShapeKind::Cylinder => format!("through cylinder {}", other.index),
+        ShapeKind::Container => format!("past the wall of container {}", other.index),
+    }
 }
 
 fn finite3(v: DVec3) -> bool {

@@ -65,6 +65,8 @@ pub(crate) struct Outcome {
     pub joined: bool,
     /// Whether the grazing guard set the impulse (see [`normal_impulse`]).
     pub guarded: bool,
+    /// Whether the sphere left a concave wall at the floor angle (see [`leave_wall`]).
+    pub slid: bool,
 }
 
 impl Outcome {
@@ -87,15 +89,19 @@ pub(crate) trait Responder: Send + Sync + 'static {
     const NAME: &'static str;
     /// Sphere `i` meets sphere `j` at `now`; `dr = r_j − r_i` (nearest image).
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome);
-    /// Sphere `i` meets a static shape of material `wall` at `now`; `n` is the unit normal from
-    /// the shape towards the sphere's centre.
-    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome);
+    /// Sphere `i` meets a static shape at `now` (see [`Wall`]).
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, now: f64, out: &mut Outcome);
     /// The spheres were renumbered: sphere `old` is now `new_of_old[old]`.
     fn permute(&mut self, _new_of_old: &[u32]) {}
     /// Writes the response's state to a checkpoint.
     fn save(&self, _e: &mut Encoder) {}
     /// Reads it back for `n` spheres, checking every index.
     fn load(&mut self, _d: &mut Decoder, _n: usize) -> Result<(), SimError> {
+        Ok(())
+    }
+    /// Whether new velocities (`v(k)` for sphere `k` of `n`) fit the response's state: the
+    /// first sphere that does not, and why.
+    fn check_velocities(&self, _v: &dyn Fn(u32) -> DVec3, _n: usize) -> Result<(), (u32, String)> {
         Ok(())
     }
     /// Report-only scenes: whether `j` is the partner `i` is already touching.
@@ -119,6 +125,44 @@ fn normal_impulse(dv: DVec3, n: DVec3) -> (f64, bool) {
     let u = -dv.dot(n);
     let floor = GRAZING * dv.length();
     if u < floor { (floor, true) } else { (u, false) }
+}
+
+/// The static shape a sphere meets, as a response sees it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Wall {
+    /// Unit normal from the shape towards the sphere's centre.
+    pub n: DVec3,
+    /// The shape's material.
+    pub material: u16,
+    /// Least angle (its sine, `κ`) at which the sphere may leave: `0` for a convex shape (a
+    /// plane, a cylinder), which a sphere leaving it never meets again on a straight line; a
+    /// container's floor for concave walls ([`leave_wall`]).
+    pub floor: f64,
+}
+
+/// The velocity with which a sphere leaves a wall, `v` being what the response gives it: `v`
+/// itself when its component along `n` is at least `κ‖v‖`, else `v` turned towards `n` until
+/// it is, keeping its speed (and so its kinetic energy). Inside a concave wall a sphere whose
+/// normal speed decays (inelastic bounces) would otherwise meet the wall again after ever
+/// shorter chords — infinitely many collisions in finite time, then a chord within the
+/// rounding of the kernel's `C`, answered as no contact: the sphere left its vessel. At the
+/// floor it slides along the wall in chords of angle `2κ` at its own speed, as a frictionless
+/// sphere slides (docs/derivations/simulation.md, "Concave walls").
+#[inline]
+pub(crate) fn leave_wall(v: DVec3, n: DVec3, kappa: f64) -> (DVec3, bool) {
+    let w = v.dot(n);
+    let speed = v.length();
+    if w >= kappa * speed || w.is_nan() {
+        return (v, false);
+    }
+    let tangential = v - n * w;
+    let t = tangential.length();
+    if t == 0.0 {
+        // Straight into the wall (no response leaves a sphere so): straight back out.
+        return (n * speed, true);
+    }
+    let along = speed * (1.0 - kappa * kappa).max(0.0).sqrt() / t;
+    (n * (kappa * speed) + tangential * along, true)
 }
 
 /// Report only.
@@ -172,8 +216,8 @@ impl Responder for ReportOnly {
         out.approach = -dv.dot(dr.normalize_or_zero());
         out.changed.extend([i, j]);
     }
-    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, _w: u16, _now: f64, out: &mut Outcome) {
-        out.approach = -m.bodies[i as usize].v.dot(n);
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, _now: f64, out: &mut Outcome) {
+        out.approach = -m.bodies[i as usize].v.dot(wall.n);
         out.changed.push(i);
     }
     #[inline(always)]
@@ -236,14 +280,16 @@ impl Responder for Elastic {
         out.changed.extend([i, j]);
     }
     #[inline]
-    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, _w: u16, now: f64, out: &mut Outcome) {
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, now: f64, out: &mut Outcome) {
         let v = m.bodies[i as usize].v;
-        let (u, guarded) = normal_impulse(v, n);
-        m.set_velocity(i, v + n * (2.0 * u), now);
+        let (u, guarded) = normal_impulse(v, wall.n);
+        let (v, slid) = leave_wall(v + wall.n * (2.0 * u), wall.n, wall.floor);
+        m.set_velocity(i, v, now);
         *out = Outcome {
             approach: u,
             restitution: 1.0,
             guarded,
+            slid,
             ..std::mem::take(out)
         };
         out.changed.push(i);
@@ -393,6 +439,41 @@ impl Responder for Materials {
         }
         Ok(())
     }
+    fn check_velocities(&self, v: &dyn Fn(u32) -> DVec3, _n: usize) -> Result<(), (u32, String)> {
+        for members in self.clusters() {
+            let first = v(members[0]);
+            let stuck = self.cmass[self.cluster[members[0] as usize] as usize].is_infinite();
+            for &s in members {
+                if stuck && v(s) != DVec3::ZERO {
+                    return Err((
+                        s,
+                        "its cluster is stuck to a static shape: its velocity must be zero".into(),
+                    ));
+                }
+                if v(s) != first {
+                    return Err((
+                        s,
+                        format!(
+                            "a cluster moves as one: give it the velocity of its other members ({first})"
+                        ),
+                    ));
+                }
+            }
+        }
+        // A single sphere stuck to a shape.
+        for (s, &c) in self.cluster.iter().enumerate() {
+            if self.members[c as usize].is_empty()
+                && self.cmass[c as usize].is_infinite()
+                && v(s as u32) != DVec3::ZERO
+            {
+                return Err((
+                    s as u32,
+                    "it is stuck to a static shape: its velocity must be zero".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, now: f64, out: &mut Outcome) {
         let (ci, cj) = (self.cluster[i as usize], self.cluster[j as usize]);
         let (vi, vj) = (m.bodies[i as usize].v, m.bodies[j as usize].v);
@@ -446,14 +527,15 @@ impl Responder for Materials {
         }
     }
 
-    fn wall(&mut self, m: &mut Motion, i: u32, n: DVec3, wall: u16, now: f64, out: &mut Outcome) {
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, now: f64, out: &mut Outcome) {
         let c = self.cluster[i as usize];
         let v = m.bodies[i as usize].v;
+        let n = wall.n;
         let (u, guarded) = normal_impulse(v, n);
         out.approach = u;
         out.guarded = guarded;
         let mc = self.cmass[c as usize];
-        let e = match self.response(m.material[i as usize], wall) {
+        let e = match self.response(m.material[i as usize], wall.material) {
             Response::None | Response::Elastic => 1.0,
             Response::Inelastic { restitution } => self.restitution(restitution, now, &[i]),
             Response::Sticky => {
@@ -469,6 +551,8 @@ impl Responder for Materials {
         self.last[i as usize] = now;
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
-        self.move_cluster(m, c, v + n * ((1.0 + e) * u), now, out);
+        let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);
+        out.slid = slid;
+        self.move_cluster(m, c, v, now, out);
     }
 }

@@ -1,0 +1,332 @@
+//! Nothing leaves its vessel, crosses a plane or enters a pillar, whatever the response: long
+//! runs of one sphere and of many in a container at restitution 0.05 … 0.99, with and without
+//! the TC model, sticky beads against a container, planes and pillars. Checked from the
+//! trajectory alone: every snapshot is written as extended XYZ (`io::xyz::write_frame`, as
+//! `spheresweep run` writes it) and read back by this file's own parser, and the positions are
+//! checked against the shapes by this file's own geometry — never by the engine's bookkeeping.
+//! The tolerance is the engine's stated one, `OVERLAP_TOLERANCE` of the radius (of the contact
+//! distance for pairs); docs/derivations/simulation.md, "Concave walls", derives the engine's
+//! bound, `2²⁵` times below it.
+
+use glam::DVec3;
+use spheresweep::sim::{
+    Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation, SphereState,
+    Stats, World, generate,
+};
+use spheresweep::{Container, Cylinder, Plane};
+
+/// One snapshot as `spheresweep run` writes it, parsed back here: each sphere's centre and
+/// radius, from the columns the `Properties` line names.
+fn snapshot(sim: &Simulation) -> Vec<(DVec3, f64)> {
+    let mut text = Vec::new();
+    spheresweep::io::xyz::write_frame(&mut text, &sim.spheres(), sim.time(), None).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    let mut lines = text.lines();
+    let n: usize = lines.next().unwrap().trim().parse().unwrap();
+    let header = lines.next().unwrap();
+    let properties = header
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("Properties="))
+        .expect("a Properties key");
+    // name:type:count triples; the column where each starts.
+    let fields: Vec<&str> = properties.split(':').collect();
+    let (mut column, mut pos, mut radius) = (0, None, None);
+    for f in fields.chunks(3) {
+        let count: usize = f[2].parse().unwrap();
+        match f[0] {
+            "pos" => pos = Some(column),
+            "radius" => radius = Some(column),
+            _ => {}
+        }
+        column += count;
+    }
+    let (pos, radius) = (pos.expect("pos column"), radius.expect("radius column"));
+    let rows: Vec<(DVec3, f64)> = lines
+        .map(|l| {
+            let w: Vec<f64> = l
+                .split_whitespace()
+                .skip(1)
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect();
+            // The first word is the species; columns count from it.
+            let at = |k: usize| w[k - 1];
+            (DVec3::new(at(pos), at(pos + 1), at(pos + 2)), at(radius))
+        })
+        .collect();
+    assert_eq!(rows.len(), n);
+    rows
+}
+
+/// The shapes a world holds, for the checks.
+struct Shapes {
+    containers: Vec<(DVec3, f64)>,
+    /// Point, unit normal.
+    planes: Vec<(DVec3, DVec3)>,
+    /// Point, unit axis, radius.
+    pillars: Vec<(DVec3, DVec3, f64)>,
+}
+
+impl Shapes {
+    fn of(w: &World) -> Self {
+        Self {
+            containers: w
+                .containers
+                .iter()
+                .map(|c| (c.shape.centre().as_dvec3(), f64::from(c.shape.radius())))
+                .collect(),
+            planes: w
+                .planes
+                .iter()
+                .map(|p| {
+                    (
+                        p.shape.point().as_dvec3(),
+                        p.shape.normal().as_dvec3().normalize(),
+                    )
+                })
+                .collect(),
+            pillars: w
+                .cylinders
+                .iter()
+                .map(|c| {
+                    let axis = c.shape.axis().as_dvec3().normalize();
+                    (
+                        c.shape.point().as_dvec3(),
+                        axis,
+                        f64::from(c.shape.radius()),
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Largest depth, over its tolerance, of any sphere through a shape, past a vessel's wall,
+/// across a plane from `sides` (its side at the start), or of any pair's overlap.
+fn worst(frame: &[(DVec3, f64)], shapes: &Shapes, sides: &[Vec<bool>]) -> (f64, String) {
+    let mut worst = (f64::NEG_INFINITY, String::new());
+    let mut take = |depth: f64, tolerance: f64, what: &dyn Fn() -> String| {
+        if depth / tolerance > worst.0 {
+            worst = (depth / tolerance, what());
+        }
+    };
+    for (i, &(c, r)) in frame.iter().enumerate() {
+        let tol = OVERLAP_TOLERANCE * r;
+        for (k, &(centre, radius)) in shapes.containers.iter().enumerate() {
+            take((c - centre).length() + r - radius, tol, &|| {
+                format!("sphere {i} outside container {k} at {c}")
+            });
+        }
+        for (k, &(p, n)) in shapes.planes.iter().enumerate() {
+            let d = (c - p).dot(n);
+            let signed = if sides[i][k] { d } else { -d };
+            take(r - signed, tol, &|| {
+                format!("sphere {i} through plane {k} at {c}")
+            });
+        }
+        for (k, &(p, axis, radius)) in shapes.pillars.iter().enumerate() {
+            let x = c - p;
+            let radial = (x - axis * x.dot(axis)).length();
+            take(r + radius - radial, tol, &|| {
+                format!("sphere {i} in pillar {k} at {c}")
+            });
+        }
+        for (j, &(cj, rj)) in frame.iter().enumerate().skip(i + 1) {
+            let d = r + rj;
+            take(d - (cj - c).length(), OVERLAP_TOLERANCE * d, &|| {
+                format!("spheres {i} and {j} overlap")
+            });
+        }
+    }
+    worst
+}
+
+/// Runs `world` to `t_end`, checking every snapshot `every` apart from the trajectory alone;
+/// returns the statistics and the worst depth over its tolerance. A stall (the watchdog's
+/// error) is returned as such: the caller says whether it may happen.
+fn run(world: World, t_end: f64, every: f64) -> Result<(Stats, f64), (SimError, f64)> {
+    let shapes = Shapes::of(&world);
+    let mut sim = Simulation::new(world).unwrap();
+    let sides: Vec<Vec<bool>> = snapshot(&sim)
+        .iter()
+        .map(|&(c, _)| {
+            shapes
+                .planes
+                .iter()
+                .map(|&(p, n)| (c - p).dot(n) >= 0.0)
+                .collect()
+        })
+        .collect();
+    let mut deepest = f64::NEG_INFINITY;
+    let mut t = 0.0;
+    while t < t_end {
+        t = (t + every).min(t_end);
+        let result = sim.advance_to(t);
+        let (depth, what) = worst(&snapshot(&sim), &shapes, &sides);
+        assert!(
+            depth <= 1.0,
+            "t = {}: {what}, {depth:e} tolerances deep",
+            sim.time()
+        );
+        deepest = deepest.max(depth);
+        if let Err(e) = result {
+            return Err((e, deepest));
+        }
+    }
+    Ok((*sim.stats(), deepest))
+}
+
+/// The user's report: one sphere in a vessel of radius 6.
+fn one_in_a_vessel(restitution: f64, tc: f64) -> World {
+    World {
+        spheres: vec![SphereState {
+            centre: DVec3::new(3.0, 0.0, 0.0),
+            velocity: DVec3::new(0.3, 1.0, 0.2),
+            radius: 0.5,
+            mass: 1.0,
+            material: 0,
+        }],
+        containers: vec![Fixed {
+            shape: Container::new([0.0; 3], 6.0).unwrap(),
+            material: 0,
+        }],
+        effects: Effects {
+            response: Response::Inelastic { restitution },
+            tc,
+            ..Effects::default()
+        },
+        ..World::default()
+    }
+}
+
+/// One sphere, restitution 0.05 … 0.99, with and without `tc`, to t = 2500 (the report's
+/// spheres left at t ≈ 15.5, 90, 195 and 2010 for 0.3, 0.8, 0.9, 0.99): it stays inside
+/// and, its normal speed spent, slides along the wall — millions of wall collisions in all.
+#[test]
+fn one_inelastic_sphere_never_leaves_its_vessel() {
+    let mut walls = 0;
+    for e in [0.05, 0.3, 0.8, 0.9, 0.99] {
+        for tc in [0.0, 1e-3] {
+            let (stats, depth) = run(one_in_a_vessel(e, tc), 2500.0, 5.0)
+                .unwrap_or_else(|(err, _)| panic!("e = {e}, tc = {tc}: {err}"));
+            assert!(
+                stats.slid > stats.wall_collisions / 2,
+                "e = {e}, tc = {tc}: slid in {} of {} wall collisions",
+                stats.slid,
+                stats.wall_collisions
+            );
+            assert!(depth < 1e-3, "e = {e}, tc = {tc}: {depth:e}");
+            walls += stats.wall_collisions;
+        }
+    }
+    assert!(walls > 2_000_000, "{walls} wall collisions in all");
+}
+
+/// Spheres placed at random in a vessel, all moving at speed 1.
+fn many_in_a_vessel(n: usize, restitution: f64, tc: f64, seed: u64) -> World {
+    let inside = |p: DVec3| p.length() < 5.5;
+    let spheres = generate::random_spheres(
+        DVec3::splat(-5.5),
+        DVec3::splat(5.5),
+        &inside,
+        n,
+        0.3,
+        1.0,
+        0,
+        seed,
+    )
+    .unwrap();
+    World {
+        spheres,
+        ..one_in_a_vessel(restitution, tc)
+    }
+}
+
+/// Many spheres in a vessel at low and high restitution, with and without `tc`: all stay
+/// inside (their bounces against the wall collapse within a few time units, and they slide
+/// along it in a shell), and no pair overlaps beyond the tolerance.
+#[test]
+fn many_inelastic_spheres_never_leave_their_vessel() {
+    let mut walls = 0;
+    for (n, e, tc) in [
+        (20, 0.05, 0.0),
+        (20, 0.3, 1e-3),
+        (120, 0.05, 1e-3),
+        (120, 0.5, 0.0),
+        (120, 0.95, 1e-3),
+    ] {
+        let (stats, depth) = run(many_in_a_vessel(n, e, tc, n as u64), 400.0, 2.0)
+            .unwrap_or_else(|(err, _)| panic!("{n} spheres, e = {e}, tc = {tc}: {err}"));
+        assert!(
+            stats.slid > 1000,
+            "{n} spheres, e = {e}, tc = {tc}: {stats:?}"
+        );
+        assert!(depth < 1.0, "{depth:e}");
+        walls += stats.wall_collisions;
+    }
+    assert!(walls > 500_000, "{walls} wall collisions in all");
+}
+
+/// Sticky beads: each bead that meets a glue wall stops there (infinite mass), and the free
+/// beads bounce off each other, off the other walls and off the stuck beads. In a vessel of
+/// glue, and between a glue floor, a ceiling and pillars of both kinds; nothing goes through.
+#[test]
+fn sticky_beads_stop_at_walls_and_nothing_goes_through() {
+    let glue = |w: World| World {
+        materials: vec!["bead".into(), "glue".into()],
+        effects: Effects {
+            response: Response::Inelastic { restitution: 0.5 },
+            // Beads stick to glue walls (and stop there), bounce off each other and off the
+            // other walls, and off the stuck beads (infinite mass).
+            pairs: vec![MaterialPair {
+                a: 0,
+                b: 1,
+                response: Response::Sticky,
+            }],
+            ..Effects::default()
+        },
+        ..w
+    };
+    let mut vessel = many_in_a_vessel(150, 0.5, 0.0, 3);
+    vessel.containers[0].material = 1;
+    let (stats, _) = run(glue(vessel), 200.0, 1.0).unwrap_or_else(|(e, _)| panic!("{e}"));
+    assert!(stats.joins > 100, "{stats:?}");
+
+    // A slab between two planes, crossed by pillars.
+    let spheres = generate::random_spheres(
+        DVec3::new(-6.0, -6.0, 0.5),
+        DVec3::new(6.0, 6.0, 5.5),
+        &|p: DVec3| {
+            (-3..=3)
+                .all(|k| (p.truncate() - glam::DVec2::new(2.0 * f64::from(k), 0.0)).length() > 1.0)
+        },
+        200,
+        0.3,
+        1.0,
+        0,
+        5,
+    )
+    .unwrap();
+    let slab = World {
+        spheres,
+        planes: vec![
+            Fixed {
+                shape: Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(),
+                material: 1,
+            },
+            Fixed {
+                shape: Plane::new([0.0, 0.0, 6.0], [0.0, 0.0, -1.0]).unwrap(),
+                material: 0,
+            },
+        ],
+        cylinders: (-3..=3)
+            .map(|k| Fixed {
+                shape: Cylinder::new([2.0 * k as f32, 0.0, 0.0], [2.0 * k as f32, 0.0, 1.0], 0.5)
+                    .unwrap(),
+                material: if k % 2 == 0 { 1 } else { 0 },
+            })
+            .collect(),
+        ..World::default()
+    };
+    let (stats, _) = run(glue(slab), 200.0, 1.0).unwrap_or_else(|(e, _)| panic!("{e}"));
+    assert!(stats.joins > 50 && stats.wall_collisions > 200, "{stats:?}");
+}
