@@ -1244,7 +1244,8 @@ impl Simulation {
 }
 
 /// What a checkpoint must match: everything in the world but the spheres' positions and
-/// velocities (which the checkpoint carries).
+/// velocities (which the checkpoint carries) and what is recorded (`record_events`, `geometry`:
+/// they change what is written, not the dynamics).
 fn world_fingerprint(w: &World) -> u64 {
     let per_sphere: Vec<(u64, u64, u16)> = w
         .spheres
@@ -1253,7 +1254,17 @@ fn world_fingerprint(w: &World) -> u64 {
         .collect();
     checkpoint::fingerprint(&format!(
         "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
-        per_sphere, w.planes, w.cylinders, w.containers, w.boundary, w.materials, w.effects
+        per_sphere,
+        w.planes,
+        w.cylinders,
+        w.containers,
+        w.boundary,
+        w.materials,
+        Effects {
+            record_events: false,
+            geometry: false,
+            ..w.effects.clone()
+        }
     ))
 }
 
@@ -1408,6 +1419,22 @@ mod tests {
                     .contains("damaged")
             );
         }
+        // What is recorded is not the world: a checkpoint restores with events on or off.
+        let mut a = Simulation::new(gas.clone()).unwrap();
+        a.advance_to(0.2).unwrap();
+        let recording = World {
+            effects: Effects {
+                record_events: true,
+                geometry: true,
+                ..gas.effects.clone()
+            },
+            ..gas.clone()
+        };
+        let mut b = Simulation::restore(recording, &a.checkpoint()).unwrap();
+        a.advance_to(1.0).unwrap();
+        b.advance_to(1.0).unwrap();
+        assert_eq!(a.spheres(), b.spheres());
+        assert!(!b.take_events().is_empty());
         // Another world (one radius differs) is refused by its fingerprint.
         let mut other = gas.clone();
         other.spheres[7].radius *= 0.999;
