@@ -38,11 +38,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     options::check_flags(args)?;
     let resume = read_checkpoint(args)?;
     let (scene, world, run_table) = build_world(args)?;
-    let settings = Settings::resolve(args, &run_table, &world.effects)?;
+    let settings = Settings::resolve(args, &run_table, &world.effects);
     let fingerprint = hash::world(&world);
     if let Some(c) = &resume {
         same_run(args, c, &settings, fingerprint)?;
     }
+    settings.check()?;
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
     let sim = build_simulation(args, &scene, world, resume.as_ref())?;

@@ -113,8 +113,8 @@ pub fn check_flags(args: &Args) -> Result<(), String> {
 
 impl Settings {
     /// The scene's `[run]` and `[effects]`, overridden by the flags.
-    pub fn resolve(args: &Args, run: &RunSettings, effects: &Effects) -> Result<Self, String> {
-        let settings = Self {
+    pub fn resolve(args: &Args, run: &RunSettings, effects: &Effects) -> Self {
+        Self {
             t_end: args.t_end.unwrap_or(run.t_end),
             snapshot_every: match args.snapshots {
                 Some(s) => (s > 0.0).then_some(s),
@@ -123,18 +123,22 @@ impl Settings {
             checkpoint_every: args.checkpoint_every,
             record_events: effects.record_events,
             geometry: effects.record_events && effects.geometry,
-        };
-        if let Some(dt) = settings.snapshot_every
-            && settings.t_end / dt > MAX_SNAPSHOTS
+        }
+    }
+
+    /// Refuses more than a million snapshots.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(dt) = self.snapshot_every
+            && self.t_end / dt > MAX_SNAPSHOTS
         {
             return Err(format!(
                 "{} snapshots (t_end {} every {}) is more than a million: take them less often",
-                num((settings.t_end / dt).floor()),
-                num(settings.t_end),
+                num((self.t_end / dt).floor()),
+                num(self.t_end),
                 num(dt)
             ));
         }
-        Ok(settings)
+        Ok(())
     }
 
     /// Refuses to continue, with these settings, a run that `recorded` describes: each setting
