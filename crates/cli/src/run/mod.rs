@@ -54,7 +54,11 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     };
     let mut run = match resume {
         Some(c) => Run::resume(sim, c, place)?,
-        None => Run::start(sim, settings, fingerprint, place)?,
+        None => {
+            let manifest = outputs::Manifest::new(fingerprint, &settings);
+            place.dir.claim(&manifest, args.force)?;
+            Run::start(sim, settings, fingerprint, place)?
+        }
     };
     run.advance(args.quiet)?;
     summary::finish(run, &about)

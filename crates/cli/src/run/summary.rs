@@ -9,7 +9,7 @@ use glam::DVec3;
 use serde_json::json;
 use spheresweep::sim::{Boundary, Response, World};
 
-use super::outputs;
+use super::outputs::{self, Manifest};
 use super::simulate::Run;
 
 /// What the summary says of the scene, taken from its world before the simulation is built.
@@ -93,25 +93,26 @@ pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
         (p, z, phi, kt, cs)
     });
 
-    // Outputs, then the summary.
+    // Outputs, then the summary (with the manifest) last.
     let dir = run.place.dir.clone();
+    let manifest = Manifest::new(run.fingerprint, &run.settings);
     let mut wrote = Vec::new();
-    if let Some(t) = run.trajectory.take() {
-        t.commit()?;
+    if run.trajectory.is_some() {
         wrote.push(format!(
             "{} ({} frames)",
             dir.file(outputs::TRAJECTORY).display(),
             c.frames
         ));
     }
-    if let Some(f) = run.events.take() {
-        f.commit()?;
+    if run.events.is_some() {
         wrote.push(format!(
             "{} ({} events)",
             dir.file(outputs::EVENTS).display(),
             c.logged
         ));
     }
+    let staged = [run.trajectory.take(), run.events.take()];
+    dir.replace_outputs(staged.into_iter().flatten().collect(), &manifest)?;
     let v3 = |v: DVec3| [v.x, v.y, v.z];
     let summary = json!({
         "scene": about.scene,
@@ -152,13 +153,8 @@ pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
         })),
         "frames": c.frames,
         "events": run.settings.record_events.then_some(c.logged),
+        "run": manifest,
     });
-    // The checkpoint's partial files are the outputs now: it cannot be resumed from.
-    let checkpoint = run.checkpoint_path();
-    if checkpoint.exists() {
-        std::fs::remove_file(&checkpoint)
-            .map_err(|e| format!("cannot remove {}: {e}", checkpoint.display()))?;
-    }
     let json_path = dir.file(outputs::SUMMARY);
     let text = serde_json::to_string_pretty(&summary)?;
     crate::output::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
