@@ -13,6 +13,7 @@
 mod checkpoint;
 mod events;
 mod hash;
+mod limits;
 mod number;
 mod options;
 mod outputs;
@@ -46,11 +47,23 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     settings.check()?;
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
+    let n = world.spheres.len();
     let sim = build_simulation(args, &scene, world, resume.as_ref())?;
+    let dir = OutDir::new(args.out.as_deref(), &args.scene)?;
+    let budget = limits::Budget::new(args.max_output.as_deref(), &dir.0)?;
+    let (next_stop, written) = resume.as_ref().map_or((0, 0), |c| {
+        (c.counters.next_stop, c.trajectory.len + c.events.len)
+    });
+    budget.check_projection(
+        settings.frames_from(next_stop),
+        limits::frame_bound(n, periodic_box.is_some()),
+        written,
+    )?;
     let place = Place {
         scene: args.scene.clone(),
-        dir: OutDir::new(args.out.as_deref(), &args.scene)?,
+        dir,
         periodic_box,
+        budget,
     };
     let mut run = match resume {
         Some(c) => Run::resume(sim, c, place)?,
@@ -60,7 +73,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             Run::start(sim, settings, fingerprint, place)?
         }
     };
-    run.advance(args.quiet)?;
+    if let Err(e) = run.advance(args.quiet) {
+        if !e.is::<crate::interrupt::Interrupted>() {
+            run.abandon();
+        }
+        return Err(e);
+    }
     summary::finish(run, &about)
 }
 

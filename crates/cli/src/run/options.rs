@@ -126,6 +126,20 @@ impl Settings {
         }
     }
 
+    /// Frames written from stop `next_stop` on (and the first one, at t = 0, from the start).
+    pub fn frames_from(&self, next_stop: u64) -> u64 {
+        if self.snapshot_every.is_none() {
+            return 0;
+        }
+        let later = self
+            .stops()
+            .iter()
+            .skip(next_stop as usize)
+            .filter(|s| s.1)
+            .count();
+        later as u64 + u64::from(next_stop == 0)
+    }
+
     /// Refuses more than a million snapshots.
     pub fn check(&self) -> Result<(), String> {
         if let Some(dt) = self.snapshot_every
@@ -240,6 +254,9 @@ mod tests {
         // 0.1 · 3 rounds above 0.3: the last snapshot is still taken, at t_end.
         assert_eq!(every(0.3, Some(0.1)).stops().len(), 3);
         assert_eq!(every(0.3, Some(0.1)).stops().last(), Some(&(0.3, true)));
+        assert_eq!(every(1.0, Some(0.4)).frames_from(0), 3);
+        assert_eq!(every(1.0, Some(0.4)).frames_from(1), 1);
+        assert_eq!(every(1.0, None).frames_from(0), 0);
         let s = every(2.0, None).stops();
         assert_eq!((s.len(), s[STEPS - 1]), (STEPS, (2.0, false)));
     }

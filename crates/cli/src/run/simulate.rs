@@ -9,10 +9,11 @@ use std::time::Instant;
 
 use glam::DVec3;
 use spheresweep::io::xyz;
-use spheresweep::sim::{Boundary, Simulation};
+use spheresweep::sim::{Boundary, Simulation, Stats};
 
 use super::checkpoint::{Counters, Progress, RunCheckpoint};
 use super::events;
+use super::limits::{self, Budget};
 use super::number::num;
 use super::options::Settings;
 use super::outputs::{self, OutDir};
@@ -29,6 +30,9 @@ pub struct Run {
     pub place: Place,
     /// Checkpoints written by this process.
     pub checkpoints: usize,
+    /// The bytes the outputs may take, and at most how many an event row takes.
+    pub budget: Budget,
+    event_bound: u64,
 }
 
 /// Where a run is: its scene file, its output directory, its periodic box (if any).
@@ -36,6 +40,7 @@ pub struct Place {
     pub scene: PathBuf,
     pub dir: OutDir,
     pub periodic_box: Option<DVec3>,
+    pub budget: Budget,
 }
 
 impl Run {
@@ -74,6 +79,8 @@ impl Run {
             settings,
             fingerprint,
             counters,
+            budget: place.budget.clone(),
+            event_bound: limits::event_bound(settings.geometry),
             place,
             checkpoints: 0,
         };
@@ -103,6 +110,8 @@ impl Run {
             settings: c.settings,
             fingerprint: c.fingerprint,
             counters: c.counters,
+            budget: place.budget.clone(),
+            event_bound: limits::event_bound(c.settings.geometry),
             place,
             checkpoints: 0,
         })
@@ -117,18 +126,32 @@ impl Run {
         let first = self.counters.next_stop as usize;
         for (k, (stop, snapshot)) in self.settings.stops().into_iter().enumerate().skip(first) {
             let start = Instant::now();
+            // The bytes written, and at most those of the events not yet written, within the
+            // budget (asked at every poll).
+            let (written, max) = (self.written(), self.budget.max);
+            let per_event = if self.events.is_some() {
+                self.event_bound
+            } else {
+                0
+            };
+            let collisions = |s: &Stats| s.pair_collisions + s.wall_collisions;
+            let before = collisions(self.sim.stats());
+            let mut over = false;
             let finished = self.sim.advance_with(stop, &mut |t, s| {
-                bar.show(t, s) && !crate::interrupt::requested()
+                over = written + (collisions(s) - before) * per_event > max;
+                !over && bar.show(t, s) && !crate::interrupt::requested()
             })? && !crate::interrupt::requested();
             self.counters.simulated += start.elapsed().as_secs_f64();
             bar.show(self.sim.time(), self.sim.stats());
             self.log_events()?;
+            self.within_budget(over)?;
             if !finished {
                 bar.finish();
                 return Err(self.interrupted()?.into());
             }
             if snapshot {
                 self.snapshot()?;
+                self.within_budget(false)?;
             }
             self.counters.next_stop = k as u64 + 1;
             if let (Some(at), Some(every)) = (next_checkpoint, self.settings.checkpoint_every)
@@ -141,6 +164,32 @@ impl Run {
         }
         bar.finish();
         Ok(())
+    }
+
+    /// Bytes the outputs have taken so far.
+    fn written(&self) -> u64 {
+        [&self.trajectory, &self.events]
+            .into_iter()
+            .flatten()
+            .map(Staged::written)
+            .sum()
+    }
+
+    /// Refuses to go on once the outputs have passed the budget (or were about to: `over`).
+    fn within_budget(&self, over: bool) -> Result<(), String> {
+        let written = self.written();
+        if over || written > self.budget.max {
+            return Err(self.budget.passed(self.sim.time(), written));
+        }
+        Ok(())
+    }
+
+    /// A run that failed: its partial outputs and its checkpoint are removed (an interrupted
+    /// run keeps them instead).
+    pub fn abandon(mut self) {
+        self.trajectory = None;
+        self.events = None;
+        let _ = std::fs::remove_file(self.checkpoint_path());
     }
 
     /// The stop's events, appended to the log.

@@ -118,6 +118,13 @@ impl Staged {
             .expect("a staged file is open until commit")
     }
 
+    /// Bytes written so far (buffered ones included).
+    pub fn written(&self) -> u64 {
+        self.out
+            .as_ref()
+            .map_or(0, |w| w.get_ref().len + w.buffer().len() as u64)
+    }
+
     /// Flushes and syncs the partial file, and says how far it has got.
     pub fn progress(&mut self) -> Result<Progress, String> {
         let out = self.out.as_mut().expect("open");
@@ -194,6 +201,7 @@ mod tests {
         a.keep().unwrap();
         let mut b = Staged::reopen(path.clone(), progress).unwrap();
         b.writer().write_all(b"second").unwrap();
+        assert_eq!(b.written(), 12);
         b.commit().unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"first second");
         assert!(!partial_path(&path).exists());

@@ -1,7 +1,7 @@
 //! Helpers of the `run` tests (resume.rs, run_*.rs): a small gas scene, the command, a run
 //! stopped by SIGTERM once it has written a checkpoint, and the checkpoint's layout.
 // Each test file uses a part of these.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
