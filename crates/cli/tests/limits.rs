@@ -376,3 +376,26 @@ fn a_run_whose_outputs_pass_the_limit_stops_and_removes_its_files() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Numbers in messages beyond 10⁶ are in exponent form: `--t-end 1e300` is not printed as a
+/// 301-digit number.
+#[test]
+fn huge_numbers_in_messages_are_in_exponent_form() {
+    let dir = fresh_dir("huge-numbers");
+    let scene = run_support::gas(
+        &dir,
+        "gas",
+        100,
+        1,
+        "t_end = 1.0\nsnapshot_every = 1.0",
+        false,
+    );
+    let o = run_support::output(&scene, &dir.join("out"), &["--t-end", "1e300"]);
+    let err = run_support::stderr(&o);
+    assert!(
+        !o.status.success() && err.contains("1e300 snapshots (t_end 1e300 every 1)"),
+        "{err}"
+    );
+    assert!(!err.contains("00000000000000"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -17,6 +17,7 @@ use spheresweep::io::xyz;
 use spheresweep::sim::{EventGeometry, EventRecord, SphereState};
 
 use super::events;
+use super::number::num;
 
 /// The longest a float is written (`{:?}`, shortest round trip): sign, 17 digits, point,
 /// exponent of three digits.
@@ -88,10 +89,11 @@ impl Budget {
     /// The error of a run whose outputs passed the budget at time `t`.
     pub fn passed(&self, t: f64, written: u64) -> String {
         format!(
-            "the outputs passed {} ({}) at t = {t}, with {} written or due: stopped; their \
+            "the outputs passed {} ({}) at t = {}, with {} written or due: stopped; their \
              partial files and the checkpoint removed",
             self.source,
             human(self.max),
+            num(t),
             human(written)
         )
     }
