@@ -49,22 +49,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let periodic_box = simulate::periodic_box(world.boundary);
     let n = world.spheres.len();
     let sim = build_simulation(args, &scene, world, resume.as_ref())?;
-    let dir = OutDir::new(args.out.as_deref(), &args.scene)?;
-    let budget = limits::Budget::new(args.max_output.as_deref(), &dir.0)?;
-    let (next_stop, written) = resume.as_ref().map_or((0, 0), |c| {
-        (c.counters.next_stop, c.trajectory.len + c.events.len)
-    });
-    budget.check_projection(
-        settings.frames_from(next_stop),
-        limits::frame_bound(n, periodic_box.is_some()),
-        written,
-    )?;
-    let place = Place {
-        scene: args.scene.clone(),
-        dir,
-        periodic_box,
-        budget,
-    };
+    let place = place(args, resume.as_ref(), &settings, n, periodic_box)?;
     let mut run = match resume {
         Some(c) => Run::resume(sim, c, place)?,
         None => {
@@ -80,6 +65,33 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         return Err(e);
     }
     summary::finish(run, &about)
+}
+
+/// The output directory, and the bytes its outputs may take: a run whose frames would pass
+/// them is refused here.
+fn place(
+    args: &Args,
+    resume: Option<&RunCheckpoint>,
+    settings: &Settings,
+    spheres: usize,
+    periodic_box: Option<glam::DVec3>,
+) -> Result<Place, String> {
+    let dir = OutDir::new(args.out.as_deref(), &args.scene)?;
+    let budget = limits::Budget::new(args.max_output.as_deref(), &dir.0)?;
+    let (next_stop, written) = resume.map_or((0, 0), |c| {
+        (c.counters.next_stop, c.trajectory.len + c.events.len)
+    });
+    budget.check_projection(
+        settings.frames_from(next_stop),
+        limits::frame_bound(spheres, periodic_box.is_some()),
+        written,
+    )?;
+    Ok(Place {
+        scene: args.scene.clone(),
+        dir,
+        periodic_box,
+        budget,
+    })
 }
 
 /// The checkpoint `--resume` names, read and checked whole before the scene is read.
