@@ -128,3 +128,51 @@ fn a_directory_with_a_checkpoint_is_resumed_or_forced() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two runs at once in one directory: the second is refused while the first writes there,
+/// even with --force, and runs once the first has ended.
+#[test]
+fn a_second_run_into_a_directory_in_use_is_refused() {
+    let dir = fresh_dir("outdir-busy");
+    let a = gas(
+        &dir,
+        "a",
+        300,
+        1,
+        "t_end = 100000.0\nsnapshot_every = 1.0",
+        false,
+    );
+    let b = gas(&dir, "b", 100, 2, "t_end = 1.0", false);
+    let out = dir.join("out");
+    let mut first = run(&a, &out, &[])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // The directory is taken before the partial trajectory is made.
+    while !out.join(".trajectory.xyz.partial").exists() {
+        assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let o = output(&b, &out, &["--force"]);
+    let disturbed = first.try_wait().unwrap().is_some();
+    // The first run is stopped before any assertion, so that none leaves it running.
+    let ok = std::process::Command::new("kill")
+        .args(["-TERM", &first.id().to_string()])
+        .status()
+        .unwrap()
+        .success();
+    let code = first.wait().unwrap().code();
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.contains("another spheresweep run is writing to it"),
+        "{err}"
+    );
+    assert!(
+        !disturbed && ok && code == Some(130),
+        "the first run was disturbed"
+    );
+    success(&b, &out, &["--force"]);
+    assert_eq!(listing(&out), ["summary.json"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

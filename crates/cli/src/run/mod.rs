@@ -67,8 +67,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     summary::finish(run, &about)
 }
 
-/// The output directory, and the bytes its outputs may take: a run whose frames would pass
-/// them is refused here.
+/// The output directory, taken for this run, and the bytes its outputs may take: a run whose
+/// frames would pass them is refused here.
 fn place(
     args: &Args,
     resume: Option<&RunCheckpoint>,
@@ -77,6 +77,7 @@ fn place(
     periodic_box: Option<glam::DVec3>,
 ) -> Result<Place, String> {
     let dir = OutDir::new(args.out.as_deref(), &args.scene)?;
+    let lock = dir.lock()?;
     let budget = limits::Budget::new(args.max_output.as_deref(), &dir.0)?;
     let (next_stop, written) = resume.map_or((0, 0), |c| {
         (c.counters.next_stop, c.trajectory.len + c.events.len)
@@ -91,6 +92,7 @@ fn place(
         dir,
         periodic_box,
         budget,
+        _lock: lock,
     })
 }
 

@@ -81,6 +81,25 @@ impl OutDir {
         Ok(Self(dir))
     }
 
+    /// Takes the directory for this process until it ends (an advisory lock on the directory
+    /// itself, released by the system whatever way the process ends): a second run into it
+    /// meanwhile is refused.
+    pub fn lock(&self) -> Result<std::fs::File, String> {
+        let dir = std::fs::File::open(&self.0)
+            .map_err(|e| format!("cannot open {}: {e}", self.0.display()))?;
+        match dir.try_lock() {
+            Ok(()) => Ok(dir),
+            Err(std::fs::TryLockError::WouldBlock) => Err(format!(
+                "--out {}: another spheresweep run is writing to it; wait for it to end, or give \
+                 another --out",
+                self.0.display()
+            )),
+            Err(std::fs::TryLockError::Error(e)) => {
+                Err(format!("cannot lock {}: {e}", self.0.display()))
+            }
+        }
+    }
+
     pub fn file(&self, name: &str) -> PathBuf {
         self.0.join(name)
     }

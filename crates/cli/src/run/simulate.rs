@@ -41,6 +41,8 @@ pub struct Place {
     pub dir: OutDir,
     pub periodic_box: Option<DVec3>,
     pub budget: Budget,
+    /// Held while the run writes to `dir` ([`OutDir::lock`]).
+    pub _lock: std::fs::File,
 }
 
 impl Run {
