@@ -14,6 +14,8 @@ const SUBCOMMANDS: &[(&str, &[&str])] = &[
             "--quiet",
             "--checkpoint-every",
             "--resume",
+            "--force",
+            "--max-output",
         ],
     ),
     (

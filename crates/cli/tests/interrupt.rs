@@ -80,7 +80,8 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
     for name in ["trajectory.xyz", "summary.json"] {
         std::fs::write(cut.join(name), b"an earlier run").unwrap();
     }
-    let mut child = spawn_gas_run(&cut, &["--checkpoint-every", "2"]);
+    // --force: the directory holds another run's files (kept until this run completes).
+    let mut child = spawn_gas_run(&cut, &["--checkpoint-every", "2", "--force"]);
     let stopped = interrupt_once(&mut child, &cut.join("checkpoint.bin"), "TERM");
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
@@ -145,10 +146,10 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
 fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
     let dir = fresh_dir("sigint");
     std::fs::write(dir.join("summary.json"), b"an earlier run").unwrap();
-    // The run has started simulating once its staged trajectory exists.
-    let mut child = spawn_gas_run(&dir, &[]);
-    let tmp = |dir: &Path| !temporary_files(dir).is_empty();
-    while !tmp(&dir) {
+    // The run has started simulating once its partial trajectory exists.
+    let mut child = spawn_gas_run(&dir, &["--force"]);
+    let partial = dir.join(".trajectory.xyz.partial");
+    while !partial.exists() {
         assert!(child.try_wait().unwrap().is_none(), "the run ended first");
         std::thread::sleep(Duration::from_millis(5));
     }
@@ -165,6 +166,10 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
         b"an earlier run"
     );
     assert!(!dir.join("trajectory.xyz").exists() && !dir.join("checkpoint.bin").exists());
+    assert!(
+        !partial.exists(),
+        "without checkpoints the partial trajectory is removed"
+    );
     assert_no_temporaries(&dir);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,9 +1,12 @@
 //! Limits: a scene or a chunk too large for the memory available is refused before anything
-//! is built, naming the count, the estimated bytes and the memory available; pathological
+//! is built, naming the count, the estimated bytes and the memory available; a run whose
+//! outputs are projected beyond `--max-output` (default half the free disk) is refused before
+//! it starts, and one whose outputs pass it stops, removing its files; pathological
 //! scenes finish with bounded work or stop with a clear error. Work is bounded by counting
 //! events (the engine asks every 4096 events whether to go on), never by wall-clock time.
 
 mod common;
+mod run_support;
 
 use common::{bin, fresh_dir, repo};
 
@@ -295,5 +298,104 @@ fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
         err.contains("1000000000 spheres") && err.contains("huge.toml"),
         "{err}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Snapshots so frequent that the trajectory would pass the limit: refused before the run,
+/// with the projected bytes, nothing written.
+#[test]
+fn outputs_projected_beyond_the_limit_are_refused_before_the_run() {
+    let dir = fresh_dir("max-output");
+    let scene = run_support::gas(&dir, "gas", 200, 1, "t_end = 10.0", false);
+    let out = dir.join("out");
+    // 1001 frames of 200 spheres: about 24 MiB.
+    let o = run_support::output(&scene, &out, &["--snapshots", "0.01", "--max-output", "1M"]);
+    let err = run_support::stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("the outputs would take up to")
+            && err.contains("1001 frames of at most")
+            && err.contains("--max-output 1M allows 1.00 MiB (1048576 B)")
+            && err.contains("refused before the run"),
+        "{err}"
+    );
+    assert!(
+        run_support::listing(&out).is_empty(),
+        "{:?}",
+        run_support::listing(&out)
+    );
+    // Within the limit it runs.
+    run_support::success(&scene, &out, &["--snapshots", "0.5", "--max-output", "1M"]);
+
+    // The shipped gas with a snapshot every 5·10⁻⁵ (a million frames of 4000 spheres, over
+    // 700 GB), against the default limit: half the disk's free space.
+    let gas = repo("scenes/hard_sphere_gas.toml");
+    let o = run_support::output(&gas, &dir.join("big"), &["--snapshots", "5e-5"]);
+    let err = run_support::stderr(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("1000001 frames")
+            && err.contains("free on the disk of")
+            && err.contains("GiB"),
+        "{err}"
+    );
+    assert!(run_support::listing(&dir.join("big")).is_empty());
+
+    let o = run_support::output(&scene, &out, &["--max-output", "lots", "--force"]);
+    assert!(
+        run_support::stderr(&o).contains("--max-output \"lots\" is not a size in bytes"),
+        "{}",
+        run_support::stderr(&o)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An event log that passes the limit during the run (events cannot be projected): the run
+/// stops with an error, and removes its partial files and its checkpoint.
+#[test]
+fn a_run_whose_outputs_pass_the_limit_stops_and_removes_its_files() {
+    let dir = fresh_dir("max-output-events");
+    let scene = run_support::gas(&dir, "gas", 200, 1, "t_end = 50.0", true);
+    let out = dir.join("out");
+    let o = run_support::output(
+        &scene,
+        &out,
+        &["--max-output", "100K", "--checkpoint-every", "1"],
+    );
+    let err = run_support::stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("the outputs passed --max-output 100K (100.00 KiB (102400 B)) at t = ")
+            && err.contains("partial files and the checkpoint removed"),
+        "{err}"
+    );
+    assert!(
+        run_support::listing(&out).is_empty(),
+        "{:?}",
+        run_support::listing(&out)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Numbers in messages beyond 10⁶ are in exponent form: `--t-end 1e300` is not printed as a
+/// 301-digit number.
+#[test]
+fn huge_numbers_in_messages_are_in_exponent_form() {
+    let dir = fresh_dir("huge-numbers");
+    let scene = run_support::gas(
+        &dir,
+        "gas",
+        100,
+        1,
+        "t_end = 1.0\nsnapshot_every = 1.0",
+        false,
+    );
+    let o = run_support::output(&scene, &dir.join("out"), &["--t-end", "1e300"]);
+    let err = run_support::stderr(&o);
+    assert!(
+        !o.status.success() && err.contains("1e300 snapshots (t_end 1e300 every 1)"),
+        "{err}"
+    );
+    assert!(!err.contains("00000000000000"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,56 +1,69 @@
-//! `spheresweep run --checkpoint-every` / `--resume`: a run killed with SIGKILL at a random
-//! moment and resumed from its last checkpoint ends with outputs identical, byte for byte, to
-//! those of a run never interrupted (the trajectory holds every snapshot up to the final state).
+//! `spheresweep run --checkpoint-every` / `--resume`: a run killed with SIGKILL after one of
+//! its checkpoints and resumed from it ends with outputs identical, byte for byte, to those of a
+//! run never interrupted (the trajectory holds every snapshot up to the final state, the event
+//! log every event); a damaged checkpoint, one of another scene, and a changed partial output
+//! are refused, saying why.
 
 mod common;
+mod run_support;
 
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::os::unix::process::ExitStatusExt;
+use std::process::Stdio;
+use std::time::Duration;
 
-use common::{fresh_dir, spawn_gas_run};
+use run_support::*;
 
-/// The gas run with a checkpoint every 2 time units.
-fn run(out: &Path, extra: &[&str]) -> std::process::Child {
-    let mut args = vec!["--checkpoint-every", "2"];
-    args.extend_from_slice(extra);
-    spawn_gas_run(out, &args)
+/// The gas of 2000 spheres to t = 40, a snapshot every 4, every event with its geometry.
+fn scene(dir: &std::path::Path) -> std::path::PathBuf {
+    gas(
+        dir,
+        "gas",
+        2000,
+        1,
+        "t_end = 40.0\nsnapshot_every = 4.0",
+        true,
+    )
 }
+
+const CHECKPOINTS: [&str; 2] = ["--checkpoint-every", "2"];
 
 #[test]
 fn a_killed_run_resumes_to_the_same_bytes() {
     let dir = fresh_dir("resume");
+    let scene = scene(&dir);
     let (full, killed) = (dir.join("full"), dir.join("killed"));
-    std::fs::create_dir_all(&killed).unwrap();
+    success(&scene, &full, &CHECKPOINTS);
 
-    let start = Instant::now();
-    let out = run(&full, &[]).wait_with_output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let whole = start.elapsed();
-
-    // Kill at a pseudo-random point between 20 % and 80 % of the uninterrupted run's time,
-    // once a checkpoint exists.
+    // Kill once the run has written the checkpoint that continues with stop `target` (of the
+    // ten; chosen from the clock), while it is still running: a run that ends first fails.
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .unwrap()
         .subsec_nanos();
-    let fraction = 0.2 + 0.6 * f64::from(nanos % 1000) / 1000.0;
-    let mut child = run(&killed, &[]);
-    let deadline = Instant::now() + whole.mul_f64(fraction);
-    while Instant::now() < deadline || !killed.join("checkpoint.bin").exists() {
-        if child.try_wait().unwrap().is_some() {
+    let target = 2 + u64::from(nanos % 7);
+    let mut child = run(&scene, &killed, &CHECKPOINTS)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = killed.join("checkpoint.bin");
+    loop {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before its checkpoint of stop {target}"
+        );
+        if std::fs::read(&checkpoint).is_ok_and(|b| b.len() > 50 && next_stop(&b) >= target) {
             break;
         }
-        std::thread::sleep(Duration::from_millis(5));
+        std::thread::sleep(Duration::from_millis(2));
     }
-    let _ = child.kill(); // SIGKILL on Unix
-    let _ = child.wait();
+    child.kill().unwrap(); // SIGKILL
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(9), "the run was not killed: {status}");
     assert!(
-        killed.join("checkpoint.bin").exists(),
-        "no checkpoint was written"
+        listing(&killed).contains(&".events.csv.partial".to_string()),
+        "{:?}",
+        listing(&killed)
     );
 
     // SIGKILL can land while a checkpoint or the summary is being written, leaving its
@@ -59,61 +72,112 @@ fn a_killed_run_resumes_to_the_same_bytes() {
     for name in [".checkpoint.bin.1.tmp", ".summary.json.1.tmp"] {
         std::fs::write(killed.join(name), b"left by a killed run").unwrap();
     }
-    let ckpt = killed.join("checkpoint.bin");
-    let resumed = run(&killed, &["--resume", ckpt.to_str().unwrap()])
-        .wait_with_output()
-        .unwrap();
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
-    let read = |p: PathBuf| std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-    assert!(
-        read(full.join("trajectory.xyz")) == read(killed.join("trajectory.xyz")),
-        "trajectories differ after a kill at {:.0} % of the run",
-        100.0 * fraction
-    );
+    let resume = [
+        "--checkpoint-every",
+        "2",
+        "--resume",
+        checkpoint.to_str().unwrap(),
+    ];
+    success(&scene, &killed, &resume);
+    for name in ["trajectory.xyz", "events.csv"] {
+        assert!(
+            read(&full.join(name)) == read(&killed.join(name)),
+            "{name} differs after a kill after the checkpoint of stop {target}"
+        );
+    }
     // The summaries agree on every physical quantity (wall-clock fields aside).
-    let physics = |p: PathBuf| {
-        let text = String::from_utf8(read(p)).unwrap();
-        text.lines()
-            .filter(|l| !l.contains("wall_seconds") && !l.contains("per_second"))
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
     assert_eq!(
-        physics(full.join("summary.json")),
-        physics(killed.join("summary.json"))
+        physics(&full.join("summary.json")),
+        physics(&killed.join("summary.json"))
     );
-    // No temporary file of the killed run is left.
-    let leftovers: Vec<_> = std::fs::read_dir(&killed)
-        .unwrap()
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".tmp"))
-        .collect();
-    assert!(leftovers.is_empty(), "{leftovers:?}");
+    // Only the outputs are left: no temporary or partial file, and no checkpoint (its partial
+    // files are the outputs now).
+    assert_eq!(
+        listing(&killed),
+        ["events.csv", "summary.json", "trajectory.xyz"]
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `run --resume` refuses a damaged checkpoint, one of another scene, and a partial output
+/// that is not the one the checkpoint records; it writes nothing then.
 #[test]
 fn a_damaged_or_foreign_checkpoint_is_refused() {
     let dir = fresh_dir("resume-bad");
+    let scene = scene(&dir);
+    let out = dir.join("out");
+    let checkpoint = interrupted(&scene, &out, &CHECKPOINTS);
+    let before = listing(&out);
+    let resume = |path: &std::path::Path, scene: &std::path::Path| {
+        let o = output(
+            scene,
+            &out,
+            &[
+                "--checkpoint-every",
+                "2",
+                "--resume",
+                path.to_str().unwrap(),
+            ],
+        );
+        assert!(!o.status.success(), "{} was accepted", path.display());
+        assert_eq!(listing(&out), before, "a refused resume changed --out");
+        stderr(&o)
+    };
+
     let bogus = dir.join("bogus.bin");
     std::fs::write(&bogus, b"not a checkpoint").unwrap();
-    let out = run(&dir.join("out"), &["--resume", bogus.to_str().unwrap()])
-        .wait_with_output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = resume(&bogus, &scene);
     assert!(
-        err.contains("bogus.bin") && err.contains("not a checkpoint"),
+        err.contains("bogus.bin: not a checkpoint of `spheresweep run`"),
         "{err}"
     );
+
+    // Bits flipped in every section of a real checkpoint: its first, middle and last byte.
+    let bytes = read(&checkpoint);
+    let flipped = dir.join("flipped.bin");
+    for (section, range) in sections(bytes.len()) {
+        for at in [range.start, (range.start + range.end) / 2, range.end - 1] {
+            let mut bad = bytes.clone();
+            bad[at] ^= 1 << (at % 8);
+            std::fs::write(&flipped, &bad).unwrap();
+            let err = resume(&flipped, &scene);
+            let why = match section {
+                "header" if at == 7 => "flipped.bin: a checkpoint of format version",
+                "header" => "flipped.bin: not a checkpoint of `spheresweep run`",
+                _ => "flipped.bin: damaged: its checksum (CRC-64 over its",
+            };
+            assert!(err.contains(why), "{section}, byte {at}: {err}");
+        }
+    }
+    let cut = dir.join("cut.bin");
+    std::fs::write(&cut, &bytes[..bytes.len() - 1]).unwrap();
+    assert!(resume(&cut, &scene).contains("damaged"));
+
+    // The same run's checkpoint, given another scene (another seed: the same sizes, masses
+    // and materials, another start).
+    let other = gas(
+        &dir,
+        "other",
+        2000,
+        2,
+        "t_end = 40.0\nsnapshot_every = 4.0",
+        true,
+    );
+    let err = resume(&checkpoint, &other);
     assert!(
-        !dir.join("out").exists(),
-        "a refused resume must write nothing"
+        err.contains("it was written for another scene") && err.contains("other.toml"),
+        "{err}"
+    );
+
+    // A partial output changed since the checkpoint.
+    let partial = out.join(".trajectory.xyz.partial");
+    let mut text = read(&partial);
+    text[100] ^= 1;
+    std::fs::write(&partial, &text).unwrap();
+    let err = resume(&checkpoint, &scene);
+    assert!(
+        err.contains(".trajectory.xyz.partial does not hold the bytes the checkpoint records"),
+        "{err}"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,0 +1,291 @@
+//! The options of `spheresweep run`, and the settings that make a run what it is: the end
+//! time, the snapshot spacing, the checkpoint spacing and what is recorded. A checkpoint records
+//! them, and a resume must give the same ones (a resumed run continues the same run).
+
+use std::path::PathBuf;
+
+use spheresweep::io::scene_file::RunSettings;
+use spheresweep::sim::Effects;
+
+use super::number::num;
+
+/// Options of `spheresweep run`.
+#[derive(Debug, clap::Args)]
+#[command(
+    after_help = "Ctrl-C or SIGTERM stops the run between two events: earlier files are \
+kept, temporary files removed, a last checkpoint written with --checkpoint-every; exit code 130. \
+A scene too large for the memory available (MemAvailable, or SPHERESWEEP_MAX_MEMORY in bytes, \
+e.g. 512M) is refused before it is built; so are outputs projected beyond --max-output."
+)]
+pub struct Args {
+    /// The scene file: TOML, or JSON if its name ends in .json.
+    pub scene: PathBuf,
+    /// Directory for trajectory.xyz, events.csv and summary.json (default: `<stem>-run/`
+    /// beside the scene). One run a directory: a directory that holds another run's outputs,
+    /// or a checkpoint, is refused without --force.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// End time, in the scene's time unit (its lengths over its speeds); finite and greater
+    /// than 0. Default: the scene's `[run] t_end`.
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Time between snapshots, in the scene's time unit; 0 for none, at most 10⁶ snapshots.
+    /// Default: the scene's `[run] snapshot_every`.
+    #[arg(long, value_name = "EVERY", allow_negative_numbers = true)]
+    pub snapshots: Option<f64>,
+    /// No progress bar (there is none either when stderr is not a terminal).
+    #[arg(long)]
+    pub quiet: bool,
+    /// Write `checkpoint.bin` in the output directory every T of simulated time (at the first
+    /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
+    /// from the last one, and Ctrl-C or SIGTERM writes a last one before stopping. T is in the
+    /// scene's time unit, finite and greater than 0. Default: no checkpoints.
+    #[arg(long, value_name = "T")]
+    pub checkpoint_every: Option<f64>,
+    /// Continue the run a checkpoint of this scene holds (`--checkpoint-every`): the outputs
+    /// end exactly as those of a run never interrupted. Give the scene, --out and options the
+    /// run was started with: another end time, snapshot spacing, checkpoint spacing or scene
+    /// is refused. Default: start from t = 0.
+    #[arg(long, value_name = "CHECKPOINT")]
+    pub resume: Option<PathBuf>,
+    /// Replace the outputs of another run (or of this same run) in --out: its checkpoint and
+    /// partial files are removed at the start, its outputs when this run completes (those
+    /// this run does not write too), so that the directory never mixes two runs. Default:
+    /// such a directory is refused.
+    #[arg(long)]
+    pub force: bool,
+    /// Refuse a run whose outputs are projected to take more than this many bytes (suffixes
+    /// K, M, G, T for powers of 1024), and stop one whose outputs pass it. Default: half the
+    /// space free on the output directory's disk.
+    #[arg(long, value_name = "BYTES")]
+    pub max_output: Option<String>,
+}
+
+/// What makes a run the run it is, beside its scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// The run ends at this time.
+    pub t_end: f64,
+    /// Time between snapshots, if any.
+    pub snapshot_every: Option<f64>,
+    /// Simulated time between checkpoints, if any.
+    pub checkpoint_every: Option<f64>,
+    /// Whether events.csv is written.
+    pub record_events: bool,
+    /// Whether its rows carry the contact point and normal.
+    pub geometry: bool,
+}
+
+/// At most this many snapshots a run.
+const MAX_SNAPSHOTS: f64 = 1e6;
+
+/// Progress steps of a run without snapshots.
+pub const STEPS: usize = 50;
+
+/// Refuses flags out of range, before anything is read or written.
+pub fn check_flags(args: &Args) -> Result<(), String> {
+    if let Some(t) = args.t_end
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(format!(
+            "--t-end {} must be finite and greater than 0",
+            num(t)
+        ));
+    }
+    if let Some(s) = args.snapshots
+        && !(s.is_finite() && s >= 0.0)
+    {
+        return Err(format!(
+            "--snapshots {} must be finite and 0 (none) or more",
+            num(s)
+        ));
+    }
+    if let Some(c) = args.checkpoint_every
+        && !(c.is_finite() && c > 0.0)
+    {
+        return Err(format!(
+            "--checkpoint-every {} must be finite and greater than 0",
+            num(c)
+        ));
+    }
+    Ok(())
+}
+
+impl Settings {
+    /// The scene's `[run]` and `[effects]`, overridden by the flags.
+    pub fn resolve(args: &Args, run: &RunSettings, effects: &Effects) -> Self {
+        Self {
+            t_end: args.t_end.unwrap_or(run.t_end),
+            snapshot_every: match args.snapshots {
+                Some(s) => (s > 0.0).then_some(s),
+                None => run.snapshot_every,
+            },
+            checkpoint_every: args.checkpoint_every,
+            record_events: effects.record_events,
+            geometry: effects.record_events && effects.geometry,
+        }
+    }
+
+    /// Frames written from stop `next_stop` on (and the first one, at t = 0, from the start).
+    pub fn frames_from(&self, next_stop: u64) -> u64 {
+        if self.snapshot_every.is_none() {
+            return 0;
+        }
+        let later = self
+            .stops()
+            .iter()
+            .skip(next_stop as usize)
+            .filter(|s| s.1)
+            .count();
+        later as u64 + u64::from(next_stop == 0)
+    }
+
+    /// Refuses more than a million snapshots.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(dt) = self.snapshot_every
+            && self.t_end / dt > MAX_SNAPSHOTS
+        {
+            return Err(format!(
+                "{} snapshots (t_end {} every {}) is more than a million: take them less often",
+                num((self.t_end / dt).floor()),
+                num(self.t_end),
+                num(dt)
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses to continue, with these settings, a run that `recorded` describes: each setting
+    /// that differs is named with both values.
+    pub fn same_run(&self, recorded: &Settings) -> Result<(), String> {
+        let every = |x: Option<f64>| x.map_or_else(|| "none".to_string(), num);
+        let yes_no = |b: bool| if b { "true" } else { "false" }.to_string();
+        let differences: Vec<String> = [
+            (
+                "--t-end (or the scene's t_end)",
+                num(self.t_end),
+                num(recorded.t_end),
+            ),
+            (
+                "--snapshots (or the scene's snapshot_every)",
+                every(self.snapshot_every),
+                every(recorded.snapshot_every),
+            ),
+            (
+                "--checkpoint-every",
+                every(self.checkpoint_every),
+                every(recorded.checkpoint_every),
+            ),
+            (
+                "the scene's record_events",
+                yes_no(self.record_events),
+                yes_no(recorded.record_events),
+            ),
+            (
+                "the scene's geometry",
+                yes_no(self.geometry),
+                yes_no(recorded.geometry),
+            ),
+        ]
+        .into_iter()
+        .filter(|(_, here, there)| here != there)
+        .map(|(what, here, there)| format!("{what} is {here} here but {there} in the checkpoint"))
+        .collect();
+        if differences.is_empty() {
+            return Ok(());
+        }
+        Err(format!(
+            "{}: a resume continues the run the checkpoint holds, whose outputs so far were \
+             written with its settings (another spacing or end would leave a trajectory and \
+             summary of two runs); give the options the run was started with, or start a new \
+             run",
+            differences.join("; ")
+        ))
+    }
+
+    /// The times a run stops at: every snapshot time, or [`STEPS`] even steps, ending at
+    /// `t_end`. The flag says whether a snapshot is taken there.
+    pub fn stops(&self) -> Vec<(f64, bool)> {
+        let t_end = self.t_end;
+        match self.snapshot_every {
+            Some(dt) => {
+                // Snapshots at k·dt (k ≥ 1) up to t_end, within rounding; t_end itself if it
+                // falls between two.
+                let last = ((t_end / dt) * (1.0 + 1e-12)).floor() as u64;
+                let mut out: Vec<(f64, bool)> = (1..=last)
+                    .map(|k| ((k as f64 * dt).min(t_end), true))
+                    .collect();
+                if out.last().is_none_or(|&(t, _)| t < t_end) {
+                    out.push((t_end, false));
+                }
+                out
+            }
+            None => (1..=STEPS)
+                .map(|k| (t_end * k as f64 / STEPS as f64, false))
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn every(t_end: f64, dt: Option<f64>) -> Settings {
+        Settings {
+            t_end,
+            snapshot_every: dt,
+            checkpoint_every: None,
+            record_events: false,
+            geometry: false,
+        }
+    }
+
+    #[test]
+    fn stops_end_at_t_end_and_mark_snapshots() {
+        assert_eq!(
+            every(1.0, Some(0.25)).stops(),
+            [(0.25, true), (0.5, true), (0.75, true), (1.0, true)]
+        );
+        assert_eq!(
+            every(1.0, Some(0.4)).stops(),
+            [(0.4, true), (0.8, true), (1.0, false)]
+        );
+        // 0.1 · 3 rounds above 0.3: the last snapshot is still taken, at t_end.
+        assert_eq!(every(0.3, Some(0.1)).stops().len(), 3);
+        assert_eq!(every(0.3, Some(0.1)).stops().last(), Some(&(0.3, true)));
+        assert_eq!(every(1.0, Some(0.4)).frames_from(0), 3);
+        assert_eq!(every(1.0, Some(0.4)).frames_from(1), 1);
+        assert_eq!(every(1.0, None).frames_from(0), 0);
+        let s = every(2.0, None).stops();
+        assert_eq!((s.len(), s[STEPS - 1]), (STEPS, (2.0, false)));
+    }
+
+    #[test]
+    fn a_resume_names_every_setting_that_differs_with_both_values() {
+        let a = every(40.0, Some(2.0));
+        assert!(a.same_run(&a).is_ok());
+        let b = Settings {
+            t_end: 1e300,
+            snapshot_every: Some(4.0),
+            ..a
+        };
+        let err = b.same_run(&a).unwrap_err();
+        assert!(
+            err.contains("--t-end (or the scene's t_end) is 1e300 here but 40 in the checkpoint")
+                && err.contains("snapshot_every) is 4 here but 2 in the checkpoint"),
+            "{err}"
+        );
+        let c = Settings {
+            checkpoint_every: Some(2.0),
+            record_events: true,
+            ..a
+        };
+        let err = c.same_run(&a).unwrap_err();
+        assert!(
+            err.contains("--checkpoint-every is 2 here but none")
+                && err.contains("record_events is true here but false"),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,477 @@
+//! The end of a run: the observables computed into a [`Summary`], the outputs committed,
+//! `summary.json` written (last: its `run` field is the directory's manifest) and the summary
+//! printed. The fields of `summary.json` are documented once, in docs/scene-format.md ("The
+//! fields of summary.json"); a test checks that its table lists exactly the fields written.
+
+use std::error::Error;
+use std::io::Write;
+use std::path::Path;
+
+use glam::DVec3;
+use serde::Serialize;
+use spheresweep::sim::{Boundary, Response, World};
+
+use super::outputs::{self, Manifest};
+use super::simulate::Run;
+
+/// What the summary says of the scene, taken from its world before the simulation is built.
+pub struct About {
+    pub scene: String,
+    pub describe: String,
+    pub spheres: usize,
+    pub walls: usize,
+    pub elastic: bool,
+    pub equal_radii: bool,
+    pub sphere_volume: f64,
+}
+
+impl About {
+    pub fn of(scene: &Path, world: &World) -> Self {
+        let describe = format!(
+            "{}: {} spheres, {} material(s), {} plane(s), {} cylinder(s), {} container(s), {}",
+            scene.display(),
+            world.spheres.len(),
+            world.materials.len(),
+            world.planes.len(),
+            world.cylinders.len(),
+            world.containers.len(),
+            match world.boundary {
+                Boundary::Open => "open".to_string(),
+                Boundary::OpenBox { lo, hi } => format!(
+                    "open (cell grid from [{:?}, {:?}, {:?}] to [{:?}, {:?}, {:?}])",
+                    lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+                ),
+                Boundary::Periodic { size } => {
+                    format!("periodic box {:.4} × {:.4} × {:.4}", size.x, size.y, size.z)
+                }
+            }
+        );
+        Self {
+            scene: scene.display().to_string(),
+            describe,
+            spheres: world.spheres.len(),
+            walls: world.planes.len() + world.cylinders.len() + world.containers.len(),
+            elastic: world.effects.response == Response::Elastic && world.effects.pairs.is_empty(),
+            equal_radii: world.spheres.windows(2).all(|w| w[0].radius == w[1].radius),
+            sphere_volume: world
+                .spheres
+                .iter()
+                .map(|s| 4.0 / 3.0 * std::f64::consts::PI * s.radius.powi(3))
+                .sum(),
+        }
+    }
+}
+
+fn relative(change: f64, scale: f64) -> f64 {
+    if scale > 0.0 { change / scale } else { change }
+}
+
+/// `summary.json` (docs/scene-format.md documents each field).
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    scene: String,
+    engine: String,
+    spheres: usize,
+    static_shapes: usize,
+    t_end: f64,
+    wall_seconds: f64,
+    collisions: Collisions,
+    kinetic_energy: Energy,
+    energy_lost: f64,
+    energy_balance: f64,
+    momentum: Momentum,
+    clusters: Clusters,
+    kernels: Kernels,
+    max_overlap: f64,
+    state_overlap: Option<StateOverlap>,
+    crossings: u64,
+    stale: u64,
+    predictions: u64,
+    guarded: u64,
+    virial: f64,
+    pressure: Option<Pressure>,
+    frames: u64,
+    events: Option<u64>,
+    run: Manifest,
+}
+
+#[derive(Debug, Serialize)]
+struct Collisions {
+    pair: u64,
+    wall: u64,
+    per_second: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Energy {
+    start: f64,
+    end: f64,
+    relative_drift: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Momentum {
+    start: [f64; 3],
+    end: [f64; 3],
+    drift: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Clusters {
+    count: usize,
+    spheres: usize,
+    largest: usize,
+    joins: u64,
+}
+
+#[derive(Debug, Serialize)]
+struct Kernels {
+    sphere: u64,
+    plane: u64,
+    cylinder: u64,
+    container: u64,
+}
+
+/// The largest overlaps in the state itself, sphere pairs and spheres against static shapes,
+/// once the run checks its state after every snapshot and at the end (not yet: `null`).
+#[derive(Debug, Serialize)]
+struct StateOverlap {
+    pairs: f64,
+    shapes: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Pressure {
+    p: f64,
+    z: f64,
+    phi: f64,
+    kt: f64,
+    carnahan_starling: Option<f64>,
+}
+
+impl Summary {
+    /// The observables of a run at its end.
+    pub fn of(run: &Run, about: &About) -> Self {
+        let (sim, c) = (&run.sim, &run.counters);
+        let stats = *sim.stats();
+        let v3 = |v: DVec3| [v.x, v.y, v.z];
+        let ke1 = sim.kinetic_energy();
+        let clusters = sim.clusters();
+        let collisions = stats.pair_collisions + stats.wall_collisions;
+        Self {
+            scene: about.scene.clone(),
+            engine: sim.engine_name(),
+            spheres: about.spheres,
+            static_shapes: about.walls,
+            t_end: sim.time(),
+            wall_seconds: c.simulated,
+            collisions: Collisions {
+                pair: stats.pair_collisions,
+                wall: stats.wall_collisions,
+                per_second: collisions as f64 / c.simulated.max(1e-9),
+            },
+            kinetic_energy: Energy {
+                start: c.ke0,
+                end: ke1,
+                relative_drift: relative(ke1 - c.ke0, c.ke0),
+            },
+            energy_lost: stats.energy_lost,
+            energy_balance: relative(c.ke0 - ke1 - stats.energy_lost, c.ke0),
+            momentum: Momentum {
+                start: v3(c.p0),
+                end: v3(sim.momentum()),
+                drift: (sim.momentum() - c.p0).length(),
+            },
+            clusters: Clusters {
+                count: clusters.len(),
+                spheres: clusters.iter().map(Vec::len).sum(),
+                largest: clusters.iter().map(Vec::len).max().unwrap_or(0),
+                joins: stats.joins,
+            },
+            kernels: Kernels {
+                sphere: stats.kernels.sphere,
+                plane: stats.kernels.plane,
+                cylinder: stats.kernels.cylinder,
+                container: stats.kernels.container,
+            },
+            max_overlap: stats.max_overlap,
+            state_overlap: None,
+            crossings: stats.crossings,
+            stale: stats.stale,
+            predictions: stats.predictions,
+            guarded: stats.guarded,
+            virial: stats.virial,
+            pressure: run
+                .place
+                .periodic_box
+                .map(|b| pressure(b, ke1, stats.virial, sim.time(), about)),
+            frames: c.frames,
+            events: run.settings.record_events.then_some(c.logged),
+            run: Manifest::new(run.fingerprint, &run.settings),
+        }
+    }
+}
+
+/// The pressure of a periodic box from the collision virial.
+fn pressure(b: DVec3, ke: f64, virial: f64, t: f64, about: &About) -> Pressure {
+    let n = about.spheres as f64;
+    let v = b.x * b.y * b.z;
+    let p = (2.0 * ke / 3.0 + virial / (3.0 * t)) / v;
+    let kt = 2.0 * ke / (3.0 * n);
+    let phi = about.sphere_volume / v;
+    Pressure {
+        p,
+        z: p * v / (n * kt),
+        phi,
+        kt,
+        carnahan_starling: (about.elastic && about.equal_radii)
+            .then(|| (1.0 + phi + phi * phi - phi.powi(3)) / (1.0 - phi).powi(3)),
+    }
+}
+
+/// Commits the outputs, writes the summary (last) and prints it.
+pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
+    let summary = Summary::of(&run, about);
+    let dir = run.place.dir.clone();
+    let mut wrote = Vec::new();
+    if run.trajectory.is_some() {
+        let path = dir.file(outputs::TRAJECTORY);
+        wrote.push(format!("{} ({} frames)", path.display(), summary.frames));
+    }
+    if run.events.is_some() {
+        let path = dir.file(outputs::EVENTS);
+        wrote.push(format!(
+            "{} ({} events)",
+            path.display(),
+            run.counters.logged
+        ));
+    }
+    let staged = [run.trajectory.take(), run.events.take()];
+    dir.replace_outputs(staged.into_iter().flatten().collect(), &summary.run)?;
+    let json_path = dir.file(outputs::SUMMARY);
+    let text = serde_json::to_string_pretty(&summary)?;
+    crate::output::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
+    wrote.push(json_path.display().to_string());
+    let mut out = std::io::stdout().lock();
+    summary.print(&mut out, about, run.counters.momentum_scale)?;
+    writeln!(out, "wrote        {}", wrote.join(", "))?;
+    Ok(())
+}
+
+impl Summary {
+    /// The summary as printed.
+    fn print(
+        &self,
+        out: &mut impl Write,
+        about: &About,
+        momentum_scale: f64,
+    ) -> std::io::Result<()> {
+        let (c, e) = (&self.collisions, &self.kinetic_energy);
+        writeln!(out, "scene        {}", about.describe)?;
+        writeln!(out, "engine       {}", self.engine)?;
+        writeln!(
+            out,
+            "run          t = 0 → {} in {:.3} s of wall time",
+            self.t_end, self.wall_seconds
+        )?;
+        writeln!(
+            out,
+            "collisions   {} pair, {} wall: {} per second of wall time",
+            c.pair,
+            c.wall,
+            si(c.per_second)
+        )?;
+        writeln!(
+            out,
+            "kinetic      {:.9e} → {:.9e} (relative drift {:+.3e})",
+            e.start, e.end, e.relative_drift
+        )?;
+        writeln!(
+            out,
+            "energy lost  {:.6e} (balance start − end − lost: {:+.3e} of the start)",
+            self.energy_lost, self.energy_balance
+        )?;
+        writeln!(
+            out,
+            "momentum     drift |ΔP| = {:.3e} ({:.3e} of Σ m|v|){}",
+            self.momentum.drift,
+            relative(self.momentum.drift, momentum_scale),
+            if about.walls > 0 {
+                "; static shapes exchange momentum"
+            } else {
+                ""
+            }
+        )?;
+        self.print_details(out)
+    }
+
+    /// The clusters, kernels, overlap and pressure lines.
+    fn print_details(&self, out: &mut impl Write) -> std::io::Result<()> {
+        let c = &self.collisions;
+        let k = &self.clusters;
+        if k.count > 0 {
+            writeln!(
+                out,
+                "clusters     {} of two or more spheres, holding {} spheres; the largest {}",
+                k.count, k.spheres, k.largest
+            )?;
+        }
+        let k = &self.kernels;
+        writeln!(
+            out,
+            "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}",
+            k.sphere, k.plane, k.cylinder, k.container
+        )?;
+        if c.pair + c.wall > 0 {
+            writeln!(
+                out,
+                "max overlap  {:.3e} of the contact distance",
+                self.max_overlap
+            )?;
+        } else {
+            writeln!(out, "max overlap  none")?;
+        }
+        if let Some(p) = &self.pressure {
+            write!(
+                out,
+                "pressure     P = {:.6} (kT = {:.6}, φ = {:.4}), Z = PV/(NkT) = {:.4}",
+                p.p, p.kt, p.phi, p.z
+            )?;
+            match p.carnahan_starling {
+                Some(cs) => writeln!(out, " (Carnahan–Starling: {cs:.4})")?,
+                None => writeln!(out)?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A rate with an SI prefix.
+fn si(x: f64) -> String {
+    match x {
+        x if x >= 1e9 => format!("{:.2} G", x / 1e9),
+        x if x >= 1e6 => format!("{:.2} M", x / 1e6),
+        x if x >= 1e3 => format!("{:.2} k", x / 1e3),
+        x => format!("{x:.1}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// A summary with every optional field present.
+    fn full() -> Summary {
+        let settings = super::super::options::Settings {
+            t_end: 1.0,
+            snapshot_every: Some(0.5),
+            checkpoint_every: None,
+            record_events: true,
+            geometry: true,
+        };
+        Summary {
+            scene: "gas.toml".into(),
+            engine: "elastic, periodic".into(),
+            spheres: 2,
+            static_shapes: 0,
+            t_end: 1.0,
+            wall_seconds: 0.5,
+            collisions: Collisions {
+                pair: 1,
+                wall: 0,
+                per_second: 2.0,
+            },
+            kinetic_energy: Energy {
+                start: 1.0,
+                end: 1.0,
+                relative_drift: 0.0,
+            },
+            energy_lost: 0.0,
+            energy_balance: 0.0,
+            momentum: Momentum {
+                start: [0.0; 3],
+                end: [0.0; 3],
+                drift: 0.0,
+            },
+            clusters: Clusters {
+                count: 0,
+                spheres: 0,
+                largest: 0,
+                joins: 0,
+            },
+            kernels: Kernels {
+                sphere: 8,
+                plane: 0,
+                cylinder: 0,
+                container: 0,
+            },
+            max_overlap: 0.0,
+            state_overlap: Some(StateOverlap {
+                pairs: 0.0,
+                shapes: 0.0,
+            }),
+            crossings: 0,
+            stale: 0,
+            predictions: 2,
+            guarded: 0,
+            virial: 1.0,
+            pressure: Some(Pressure {
+                p: 1.0,
+                z: 1.0,
+                phi: 0.1,
+                kt: 1.0,
+                carnahan_starling: Some(1.0),
+            }),
+            frames: 3,
+            events: Some(1),
+            run: Manifest::new(7, &settings),
+        }
+    }
+
+    /// The dotted paths of a JSON value's fields (arrays are values).
+    fn paths(v: &serde_json::Value, prefix: &str, out: &mut BTreeSet<String>) {
+        match v {
+            serde_json::Value::Object(m) => {
+                for (k, v) in m {
+                    paths(v, &format!("{prefix}{k}."), out);
+                }
+            }
+            _ => {
+                out.insert(prefix.trim_end_matches('.').to_string());
+            }
+        }
+    }
+
+    /// docs/scene-format.md's table of the fields of summary.json lists exactly the fields
+    /// written.
+    #[test]
+    fn the_documented_fields_are_the_fields_written() {
+        let value = serde_json::to_value(full()).unwrap();
+        let mut written = BTreeSet::new();
+        paths(&value, "", &mut written);
+        let doc = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/scene-format.md"
+        ))
+        .unwrap();
+        let table = doc
+            .split("## The fields of summary.json")
+            .nth(1)
+            .expect("docs/scene-format.md has a section 'The fields of summary.json'");
+        let documented: Vec<String> = table
+            .lines()
+            .skip_while(|l| !l.starts_with("| `"))
+            .take_while(|l| l.starts_with("| `"))
+            .map(|l| l[3..].split('`').next().unwrap().to_string())
+            .collect();
+        let set: BTreeSet<String> = documented.iter().cloned().collect();
+        assert_eq!(set.len(), documented.len(), "a field is listed twice");
+        let missing: Vec<_> = written.difference(&set).collect();
+        let extra: Vec<_> = set.difference(&written).collect();
+        assert!(
+            missing.is_empty() && extra.is_empty(),
+            "not documented: {missing:?}; documented but not written: {extra:?}"
+        );
+    }
+}

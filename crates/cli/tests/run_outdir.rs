@@ -1,0 +1,178 @@
+//! One run an output directory: a run refuses a directory that holds another run's outputs,
+//! this same run's, a checkpoint, or outputs without a manifest, naming what it found, and
+//! changes nothing; with --force it replaces them whole, removing the other run's outputs it
+//! does not write itself.
+
+mod common;
+mod run_support;
+
+use run_support::*;
+
+fn manifest(out: &std::path::Path) -> serde_json::Value {
+    let text = String::from_utf8(read(&out.join("summary.json"))).unwrap();
+    serde_json::from_str::<serde_json::Value>(&text).unwrap()["run"].clone()
+}
+
+#[test]
+fn a_run_refuses_another_runs_directory_unless_forced_and_never_mixes_them() {
+    let dir = fresh_dir("outdir");
+    let a = gas(&dir, "a", 200, 1, "t_end = 2.0\nsnapshot_every = 1.0", true);
+    let b = gas(
+        &dir,
+        "b",
+        300,
+        2,
+        "t_end = 1.0\nsnapshot_every = 0.5",
+        false,
+    );
+    let out = dir.join("out");
+    success(&a, &out, &[]);
+    let before: Vec<_> = ["events.csv", "summary.json", "trajectory.xyz"]
+        .map(|n| read(&out.join(n)))
+        .into();
+    assert_eq!(
+        manifest(&out)["outputs"],
+        serde_json::json!(["trajectory.xyz", "events.csv", "summary.json"])
+    );
+    let unchanged = || {
+        let now: Vec<_> = ["events.csv", "summary.json", "trajectory.xyz"]
+            .map(|n| read(&out.join(n)))
+            .into();
+        assert!(now == before, "a refused run changed --out");
+        assert_eq!(
+            listing(&out),
+            ["events.csv", "summary.json", "trajectory.xyz"]
+        );
+    };
+
+    // Another scene, without snapshots: refused, naming the other run.
+    let o = output(&b, &out, &["--snapshots", "0"]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("holds the outputs of another run (scene fingerprint")
+            && err.contains("t_end 2, snapshots every 1")
+            && err.contains("events.csv, summary.json")
+            && err.contains("--force"),
+        "{err}"
+    );
+    unchanged();
+    // The same scene and options again: refused too.
+    let o = output(&a, &out, &[]);
+    assert!(
+        stderr(&o).contains("the outputs of this same scene and options, complete"),
+        "{}",
+        stderr(&o)
+    );
+    unchanged();
+
+    // Forced: B's summary alone, no trajectory or event log of A beside it.
+    success(&b, &out, &["--snapshots", "0", "--force"]);
+    assert_eq!(listing(&out), ["summary.json"]);
+    let m = manifest(&out);
+    assert_eq!(
+        (m["t_end"].as_f64(), m["snapshot_every"].is_null()),
+        (Some(1.0), true)
+    );
+    assert_eq!(m["outputs"], serde_json::json!(["summary.json"]));
+
+    // Outputs without a manifest (an earlier version, or an unfinished run) are refused.
+    std::fs::write(out.join("trajectory.xyz"), b"1\nan unknown run\n").unwrap();
+    std::fs::write(out.join("summary.json"), b"{}").unwrap();
+    let o = output(&b, &out, &[]);
+    assert!(
+        stderr(&o).contains("no summary.json naming it"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(read(&out.join("trajectory.xyz")), b"1\nan unknown run\n");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_directory_with_a_checkpoint_is_resumed_or_forced() {
+    let dir = fresh_dir("outdir-checkpoint");
+    let a = gas(
+        &dir,
+        "a",
+        300,
+        1,
+        "t_end = 200.0\nsnapshot_every = 1.0",
+        true,
+    );
+    let out = dir.join("out");
+    interrupted(&a, &out, &["--checkpoint-every", "1"]);
+    let before = listing(&out);
+    assert_eq!(
+        before,
+        [
+            ".events.csv.partial",
+            ".trajectory.xyz.partial",
+            "checkpoint.bin"
+        ]
+    );
+    let o = output(&a, &out, &["--t-end", "1", "--checkpoint-every", "1"]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("the checkpoint of an interrupted run: resume it with --resume")
+            && err.contains("checkpoint.bin"),
+        "{err}"
+    );
+    assert_eq!(listing(&out), before);
+    // Forced, a new run removes the checkpoint and its partial files.
+    success(&a, &out, &["--t-end", "1", "--force"]);
+    assert_eq!(
+        listing(&out),
+        ["events.csv", "summary.json", "trajectory.xyz"]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Two runs at once in one directory: the second is refused while the first writes there,
+/// even with --force, and runs once the first has ended.
+#[test]
+fn a_second_run_into_a_directory_in_use_is_refused() {
+    let dir = fresh_dir("outdir-busy");
+    let a = gas(
+        &dir,
+        "a",
+        300,
+        1,
+        "t_end = 100000.0\nsnapshot_every = 1.0",
+        false,
+    );
+    let b = gas(&dir, "b", 100, 2, "t_end = 1.0", false);
+    let out = dir.join("out");
+    let mut first = run(&a, &out, &[])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // The directory is taken before the partial trajectory is made.
+    while !out.join(".trajectory.xyz.partial").exists() {
+        assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let o = output(&b, &out, &["--force"]);
+    let disturbed = first.try_wait().unwrap().is_some();
+    // The first run is stopped before any assertion, so that none leaves it running.
+    let ok = std::process::Command::new("kill")
+        .args(["-TERM", &first.id().to_string()])
+        .status()
+        .unwrap()
+        .success();
+    let code = first.wait().unwrap().code();
+    let err = stderr(&o);
+    assert!(
+        !o.status.success() && err.contains("another spheresweep run is writing to it"),
+        "{err}"
+    );
+    assert!(
+        !disturbed && ok && code == Some(130),
+        "the first run was disturbed"
+    );
+    success(&b, &out, &["--force"]);
+    assert_eq!(listing(&out), ["summary.json"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
