@@ -418,9 +418,13 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         Some(p) => (p.clone(), Output::from_path(p)?),
         None => input.default_output(),
     };
-    for p in input.paths() {
-        crate::output::distinct(p, &out_path)
-            .map_err(|e| format!("the output would overwrite the input: {e}"))?;
+    // The output is none of the inputs, through a link or not; a directory of columns,
+    // replaced whole, holds none of them.
+    let mut inputs = input.paths();
+    inputs.extend(args.against.as_deref());
+    crate::output::not_an_input(&out_path, &inputs)?;
+    if output == Output::NpyDir {
+        crate::output::no_input_inside(&out_path, &inputs)?;
     }
     let mut source = input.open(layout, args.chunk_rows)?;
     let columns = OutColumn::of(layout, args.geometry);

@@ -244,8 +244,22 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         return Err(format!("--out {}: not a directory", dir.display()).into());
     }
     let extensions = args.format.extensions();
-    let first = dir.join(format!("{}.{}", pictures[0].stem, extensions[0]));
-    crate::output::check_writable(&first)?;
+    let outputs: Vec<PathBuf> = pictures
+        .iter()
+        .flat_map(|p| {
+            extensions
+                .iter()
+                .map(|ext| dir.join(format!("{}.{ext}", p.stem)))
+        })
+        .collect();
+    let inputs: Vec<&Path> = std::iter::once(args.input.as_path())
+        .chain(args.scene.as_deref())
+        .collect();
+    for path in &outputs {
+        crate::output::not_an_input(path, &inputs)?;
+    }
+    crate::output::check_writable(&outputs[0])?;
+    crate::output::remove_stale_temporaries(&outputs);
 
     let used: Vec<u16> = {
         let mut m: Vec<u16> = chosen
