@@ -76,7 +76,8 @@ pub struct Args {
     geometry: bool,
     /// Rows read, queried and written at a time, 1 to 67 108 864 (2²⁶): memory grows with it
     /// (about 0.7 KiB a row at most), not with the input. A chunk larger than the memory
-    /// available (MemAvailable, or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
+    /// available (the least of MemAvailable, what ulimit -v and the cgroup's memory limit
+    /// leave; or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
     #[arg(long, default_value_t = 1 << 20, value_name = "N")]
     chunk_rows: usize,
 }
