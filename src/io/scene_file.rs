@@ -1049,7 +1049,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "run",
                 &[Key("run"), Key("t_end")],
-                format!("t_end = {} must be finite and greater than 0", r.t_end),
+                format!("t_end = {:?} must be finite and greater than 0", r.t_end),
             ));
         }
         if let Some(every) = r.snapshot_every
@@ -1058,7 +1058,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "run",
                 &[Key("run"), Key("snapshot_every")],
-                format!("snapshot_every = {every} must be finite and greater than 0"),
+                format!("snapshot_every = {every:?} must be finite and greater than 0"),
             ));
         }
         Ok(RunSettings {
@@ -1143,7 +1143,7 @@ impl SceneFile {
                 Ok(Response::Inelastic { restitution: e })
             }
             (ResponseKind::Inelastic, Some(e)) => {
-                Err(self.item_error(item, &at, format!("restitution = {e} must be in [0, 1]")))
+                Err(self.item_error(item, &at, format!("restitution = {e:?} must be in [0, 1]")))
             }
             (ResponseKind::Inelastic, None) => Err(self.item_error(
                 item,
@@ -1171,7 +1171,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "effects",
                 &[Key("effects"), Key("tc")],
-                format!("tc = {} must be finite and at least 0", e.tc),
+                format!("tc = {:?} must be finite and at least 0", e.tc),
             ));
         }
         let mut pairs = Vec::with_capacity(e.pair.len());
@@ -1369,13 +1369,13 @@ impl SceneFile {
         if !(s.radius.is_finite() && s.radius > 0.0) {
             return bad(
                 "radius",
-                format!("= {} must be finite and greater than 0", s.radius),
+                format!("= {:?} must be finite and greater than 0", s.radius),
             );
         }
         if !(s.mass.is_finite() && s.mass > 0.0) {
             return bad(
                 "mass",
-                format!("= {} must be finite and greater than 0", s.mass),
+                format!("= {:?} must be finite and greater than 0", s.mass),
             );
         }
         Ok(SphereState {
@@ -1460,11 +1460,12 @@ impl SceneFile {
                 return Err(self.item_error(
                     &item,
                     &path("mass"),
-                    format!("mass = {mass} must be finite and greater than 0"),
+                    format!("mass = {mass:?} must be finite and greater than 0"),
                 ));
             }
+            self.generator_parameters(g, b, &item)?;
             let seed = g.seed.unwrap_or(base_seed.wrapping_add(b as u64));
-            let sim = |e: SimError| self.sim_error(&item, &block, e);
+            let sim = |e: SimError| self.generator_error(&item, &block, e);
             // Every required field is set (checked above); `req` reads one.
             let req = |v: Option<f64>| v.unwrap_or(f64::NAN);
             let req3 = |v: Option<[f64; 3]>| DVec3::from_array(v.unwrap_or([f64::NAN; 3]));
@@ -1484,7 +1485,7 @@ impl SceneFile {
                     let mut tmp = World::default();
                     let kt = g.temperature.unwrap_or(1.0);
                     generate::periodic_gas(&mut tmp, count, req(g.phi), radius, kt, seed)
-                        .map_err(sim)?;
+                        .map_err(|e| self.generator_error(&item, &path("phi"), e))?;
                     world.boundary = tmp.boundary;
                     if let Boundary::Periodic { size } = tmp.boundary {
                         periodic_size = Some(size);
@@ -1561,14 +1562,8 @@ impl SceneFile {
         seed: u64,
     ) -> Result<Vec<SphereState>, SceneFileError> {
         let path = |k| [Key("generate"), At(b), Key(k)];
+        // Checked finite and positive by `generator_parameters`.
         let radius = g.radius.unwrap_or(f64::NAN);
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(self.item_error(
-                item,
-                &path("radius"),
-                format!("radius = {radius} must be finite and greater than 0"),
-            ));
-        }
         let (mut lo, mut hi) = match (g.lo, g.hi) {
             (Some(lo), Some(hi)) => (DVec3::from_array(lo), DVec3::from_array(hi)),
             (None, None) => (DVec3::NEG_INFINITY, DVec3::INFINITY),
@@ -1653,7 +1648,141 @@ impl SceneFile {
             material,
             seed,
         )
-        .map_err(|e| self.sim_error(item, &[Key("generate"), At(b)], e))
+        .map_err(|e| self.generator_error(item, &[Key("generate"), At(b)], e))
+    }
+
+    /// A generator's own refusal (what `generator_parameters` cannot tell in advance, such as
+    /// no room left for random placement), in its words without the `effects:` of
+    /// [`SimError::Effects`] or its own name, at `path`.
+    fn generator_error(&self, item: &str, path: &[Seg], e: SimError) -> SceneFileError {
+        match e {
+            SimError::Effects(message) => {
+                let own = [
+                    "periodic gas: ",
+                    "random spheres: ",
+                    "nozzle: ",
+                    "lattice: ",
+                ];
+                let problem = own
+                    .iter()
+                    .find_map(|p| message.strip_prefix(p))
+                    .unwrap_or(&message);
+                self.item_error(item, path, problem.to_string())
+            }
+            other => self.sim_error(item, path, other),
+        }
+    }
+
+    /// Checks a generator's parameters one by one before it runs, naming the first that is
+    /// wrong by its field (every required field is set: checked before).
+    fn generator_parameters(
+        &self,
+        g: &GenerateTable,
+        b: usize,
+        item: &str,
+    ) -> Result<(), SceneFileError> {
+        let fail = |field: &'static str, problem: String| {
+            Err(self.item_error(item, &[Key("generate"), At(b), Key(field)], problem))
+        };
+        let radius = g.radius.unwrap_or(f64::NAN);
+        if !(radius.is_finite() && radius > 0.0) {
+            return fail(
+                "radius",
+                format!("radius = {radius:?} must be finite and greater than 0"),
+            );
+        }
+        let finite = |field: &'static str, v: Option<f64>| match v {
+            Some(x) if !x.is_finite() => fail(field, format!("{field} = {x:?} must be finite")),
+            _ => Ok(()),
+        };
+        let finite3 = |field: &'static str, v: Option<[f64; 3]>| match v.map(DVec3::from_array) {
+            Some(x) if !x.is_finite() => {
+                fail(field, format!("{field} = {} must be finite", show(x)))
+            }
+            _ => Ok(()),
+        };
+        finite("speed", g.speed)?;
+        let diameter = 2.0 * radius;
+        match g.kind {
+            GenerateKind::PeriodicGas => self.gas_parameters(g, radius, &fail)?,
+            GenerateKind::Random => {}
+            GenerateKind::Nozzle => {
+                finite3("origin", g.origin)?;
+                finite3("direction", g.direction)?;
+                if g.direction
+                    .is_some_and(|d| DVec3::from_array(d) == DVec3::ZERO)
+                {
+                    return fail("direction", "direction = [0, 0, 0] has no direction".into());
+                }
+                let spacing = g.spacing.unwrap_or(2.2 * radius);
+                if !(spacing.is_finite() && spacing >= diameter) {
+                    return fail(
+                        "spacing",
+                        format!("spacing = {spacing:?} must be at least a diameter ({diameter:?})"),
+                    );
+                }
+                finite("spread", g.spread)?;
+                if let Some(jitter) = g.jitter
+                    && !(jitter >= 0.0 && jitter < spacing)
+                {
+                    return fail(
+                        "jitter",
+                        format!(
+                            "jitter = {jitter:?} must be at least 0 and below the spacing ({spacing:?})"
+                        ),
+                    );
+                }
+            }
+            GenerateKind::Lattice => {
+                finite3("lo", g.lo)?;
+                let spacing = g.spacing.unwrap_or(f64::NAN);
+                if !(spacing.is_finite() && spacing >= diameter) {
+                    return fail(
+                        "spacing",
+                        format!("spacing = {spacing:?} must be at least a diameter ({diameter:?})"),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A periodic gas's packing fraction and temperature, and the box they give: its side,
+    /// from `n` spheres at packing fraction `phi`, must hold three diameters (the periodic
+    /// box's rule), or the gas is refused here rather than its box in `[boundary]`.
+    fn gas_parameters(
+        &self,
+        g: &GenerateTable,
+        radius: f64,
+        fail: &dyn Fn(&'static str, String) -> Result<(), SceneFileError>,
+    ) -> Result<(), SceneFileError> {
+        let phi = g.phi.unwrap_or(f64::NAN);
+        if !(phi > 0.0 && phi < 0.7) {
+            return fail(
+                "phi",
+                format!("phi = {phi:?} must be above 0 and below 0.7"),
+            );
+        }
+        let kt = g.temperature.unwrap_or(1.0);
+        if !(kt.is_finite() && kt >= 0.0) {
+            return fail(
+                "temperature",
+                format!("temperature = {kt:?} must be finite and at least 0"),
+            );
+        }
+        let n = g.n.unwrap_or(0);
+        let side = (n as f64 * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3) / phi).cbrt();
+        if side < 6.0 * radius {
+            return fail(
+                "n",
+                format!(
+                    "the box side from n = {n} and phi = {phi:?} is {side:.3}, less than three \
+                     diameters ({:?}): use more spheres or a lower phi",
+                    6.0 * radius
+                ),
+            );
+        }
+        Ok(())
     }
 }
 
@@ -1986,11 +2115,11 @@ radius = 30.0
             ),
             (
                 FULL.replace("t_end = 2.5", "t_end = -1"),
-                "run: t_end = -1 must be finite",
+                "run: t_end = -1.0 must be finite",
             ),
             (
                 FULL.replace("mass = 2.0", "mass = 0.0"),
-                "sphere 0: mass = 0 must be finite and greater than 0",
+                "sphere 0: mass = 0.0 must be finite and greater than 0",
             ),
             (
                 FULL.replace("kind = \"box\"", "kind = \"periodic\""),

@@ -5,6 +5,7 @@ mod bench;
 mod demo;
 mod interrupt;
 mod memory;
+mod number;
 mod output;
 mod picture;
 mod progress;
