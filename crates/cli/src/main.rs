@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod bench;
+mod checkout;
 mod demo;
 mod interrupt;
 mod memory;
@@ -35,7 +36,8 @@ enum Command {
     /// parry3d in the same run, one thread (`--quick` for a run under a minute, `--json`).
     Bench(bench::Args),
     /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
-    /// throughput from the same run; write docs/accuracy.md and its SVG plot.
+    /// throughput from the same run; write the report and its SVG plot to
+    /// spheresweep-accuracy/ (`--out docs/accuracy.md --force` regenerates the committed one).
     Accuracy(accuracy::Args),
     /// Simulate a scene file (TOML or JSON; docs/scene-format.md) to its end time: a progress
     /// bar, then a summary; trajectory.xyz, events.csv and summary.json in the output directory.
