@@ -59,7 +59,10 @@ fn main() -> ExitCode {
         // them at once.
         Command::Bench(args) => interrupt::exit_if_requested_during(
             "the benchmark (it writes no file; the figures printed so far stand)",
-            || bench::run(&args),
+            || {
+                eprintln!("bench: measuring (Ctrl-C or SIGTERM ends it at once)");
+                bench::run(&args)
+            },
         )
         .map_err(Into::into)
         .and_then(|result| result),
