@@ -883,16 +883,9 @@ impl SceneFile {
     }
 
     fn sim_error(&self, item: impl Into<String>, path: &[Seg], source: SimError) -> SceneFileError {
-        // A generator's refusal names its field: point at that field's line.
-        let mut path = path.to_vec();
-        if let SimError::Generate { field, .. } = &source
-            && !field.is_empty()
-        {
-            path.push(Key(field));
-        }
         SceneFileError::Sim {
             file: self.origin.file.clone(),
-            line: self.line(&path),
+            line: self.line(path),
             item: item.into(),
             source,
         }
@@ -1056,7 +1049,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "run",
                 &[Key("run"), Key("t_end")],
-                format!("t_end = {} must be finite and greater than 0", r.t_end),
+                format!("t_end = {:?} must be finite and greater than 0", r.t_end),
             ));
         }
         if let Some(every) = r.snapshot_every
@@ -1065,7 +1058,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "run",
                 &[Key("run"), Key("snapshot_every")],
-                format!("snapshot_every = {every} must be finite and greater than 0"),
+                format!("snapshot_every = {every:?} must be finite and greater than 0"),
             ));
         }
         Ok(RunSettings {
@@ -1150,7 +1143,7 @@ impl SceneFile {
                 Ok(Response::Inelastic { restitution: e })
             }
             (ResponseKind::Inelastic, Some(e)) => {
-                Err(self.item_error(item, &at, format!("restitution = {e} must be in [0, 1]")))
+                Err(self.item_error(item, &at, format!("restitution = {e:?} must be in [0, 1]")))
             }
             (ResponseKind::Inelastic, None) => Err(self.item_error(
                 item,
@@ -1178,7 +1171,7 @@ impl SceneFile {
             return Err(self.item_error(
                 "effects",
                 &[Key("effects"), Key("tc")],
-                format!("tc = {} must be finite and at least 0", e.tc),
+                format!("tc = {:?} must be finite and at least 0", e.tc),
             ));
         }
         let mut pairs = Vec::with_capacity(e.pair.len());
@@ -1376,13 +1369,13 @@ impl SceneFile {
         if !(s.radius.is_finite() && s.radius > 0.0) {
             return bad(
                 "radius",
-                format!("= {} must be finite and greater than 0", s.radius),
+                format!("= {:?} must be finite and greater than 0", s.radius),
             );
         }
         if !(s.mass.is_finite() && s.mass > 0.0) {
             return bad(
                 "mass",
-                format!("= {} must be finite and greater than 0", s.mass),
+                format!("= {:?} must be finite and greater than 0", s.mass),
             );
         }
         Ok(SphereState {
@@ -1467,11 +1460,11 @@ impl SceneFile {
                 return Err(self.item_error(
                     &item,
                     &path("mass"),
-                    format!("mass = {mass} must be finite and greater than 0"),
+                    format!("mass = {mass:?} must be finite and greater than 0"),
                 ));
             }
             let seed = g.seed.unwrap_or(base_seed.wrapping_add(b as u64));
-            let sim = |e: SimError| self.sim_error(&item, &block, e);
+            let sim = |e: SimError| self.generator_error(&item, &block, e);
             // Every required field is set (checked above); `req` reads one.
             let req = |v: Option<f64>| v.unwrap_or(f64::NAN);
             let req3 = |v: Option<[f64; 3]>| DVec3::from_array(v.unwrap_or([f64::NAN; 3]));
@@ -1568,14 +1561,8 @@ impl SceneFile {
         seed: u64,
     ) -> Result<Vec<SphereState>, SceneFileError> {
         let path = |k| [Key("generate"), At(b), Key(k)];
+        // A radius that is not finite and positive is refused by the generator, naming it.
         let radius = g.radius.unwrap_or(f64::NAN);
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(self.item_error(
-                item,
-                &path("radius"),
-                format!("radius = {radius} must be finite and greater than 0"),
-            ));
-        }
         let (mut lo, mut hi) = match (g.lo, g.hi) {
             (Some(lo), Some(hi)) => (DVec3::from_array(lo), DVec3::from_array(hi)),
             (None, None) => (DVec3::NEG_INFINITY, DVec3::INFINITY),
@@ -1660,7 +1647,22 @@ impl SceneFile {
             material,
             seed,
         )
-        .map_err(|e| self.sim_error(item, &[Key("generate"), At(b)], e))
+        .map_err(|e| self.generator_error(item, &[Key("generate"), At(b)], e))
+    }
+
+    /// A generator's refusal ([`SimError::Generate`]) in its own words, at the line of the
+    /// field it names (the block's line when it names none); any other error as it is.
+    fn generator_error(&self, item: &str, path: &[Seg], e: SimError) -> SceneFileError {
+        match e {
+            SimError::Generate { field, problem, .. } => {
+                let mut path = path.to_vec();
+                if !field.is_empty() {
+                    path.push(Key(field));
+                }
+                self.item_error(item, &path, problem)
+            }
+            other => self.sim_error(item, path, other),
+        }
     }
 }
 
@@ -1993,11 +1995,11 @@ radius = 30.0
             ),
             (
                 FULL.replace("t_end = 2.5", "t_end = -1"),
-                "run: t_end = -1 must be finite",
+                "run: t_end = -1.0 must be finite",
             ),
             (
                 FULL.replace("mass = 2.0", "mass = 0.0"),
-                "sphere 0: mass = 0 must be finite and greater than 0",
+                "sphere 0: mass = 0.0 must be finite and greater than 0",
             ),
             (
                 FULL.replace("kind = \"box\"", "kind = \"periodic\""),

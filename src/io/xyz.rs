@@ -165,7 +165,9 @@ struct Layout {
 /// Reads every frame of an extended XYZ text: the frames [`write_frame`] writes, and more
 /// generally any frame whose `Properties` has `pos:R:3` and `radius:R:1` (`velo:R:3`,
 /// `material:I:1` and `mass:R:1` are read when present; other columns are skipped). Blank
-/// lines between frames are allowed. Errors name the line.
+/// lines between frames are allowed. A position or velocity that is not finite, a radius
+/// that is negative or not finite, a mass that is not positive and finite are refused. Errors
+/// name the line, and for a sphere its frame and index in the frame (both from 0).
 ///
 /// ```
 /// use spheresweep::io::xyz::read_frames;
@@ -215,7 +217,7 @@ pub fn read_frames(text: &str) -> Result<Vec<Frame>, XyzError> {
             };
             spheres.push(sphere_line(body, &layout).map_err(|problem| XyzError {
                 line: sline,
-                problem,
+                problem: format!("frame {}, sphere {k}: {problem}", frames.len()),
             })?);
         }
         frames.push(Frame {
@@ -379,6 +381,19 @@ fn sphere_line(body: &str, layout: &Layout) -> Result<SphereState, String> {
     let velocity = vec3(layout.velo, "velo")?;
     let radius = layout.radius.map_or(Ok(0.0), |k| real(k, "radius"))?;
     let mass = layout.mass.map_or(Ok(1.0), |k| real(k, "mass"))?;
+    let show = |v: DVec3| format!("[{:?}, {:?}, {:?}]", v.x, v.y, v.z);
+    if !centre.is_finite() {
+        return Err(format!("pos = {} is not finite", show(centre)));
+    }
+    if !velocity.is_finite() {
+        return Err(format!("velo = {} is not finite", show(velocity)));
+    }
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(format!("radius = {radius:?} must be finite and at least 0"));
+    }
+    if !(mass.is_finite() && mass > 0.0) {
+        return Err(format!("mass = {mass:?} must be finite and greater than 0"));
+    }
     let material = match layout.material {
         Some(k) => fields[k]
             .parse::<u16>()
@@ -533,6 +548,26 @@ mod tests {
                 "material",
             ),
             ("1\nProperties=pos:R:2:radius:R:1\n0 0 1\n", 2, "pos:R:3"),
+            (
+                "1\nProperties=pos:R:3:radius:R:1\n0 0 0 1\n\n2\nProperties=pos:R:3:radius:R:1\n0 0 0 1\n0 nan 0 1\n",
+                8,
+                "frame 1, sphere 1: pos = [0.0, NaN, 0.0] is not finite",
+            ),
+            (
+                "1\nProperties=pos:R:3:radius:R:1\n0 0 0 -0.5\n",
+                3,
+                "frame 0, sphere 0: radius = -0.5 must be finite and at least 0",
+            ),
+            (
+                "1\nProperties=pos:R:3:velo:R:3:radius:R:1\n0 0 0 inf 0 0 1\n",
+                3,
+                "velo = [inf, 0.0, 0.0] is not finite",
+            ),
+            (
+                "1\nProperties=pos:R:3:radius:R:1:mass:R:1\n0 0 0 1 0\n",
+                3,
+                "mass = 0.0 must be finite and greater than 0",
+            ),
             (
                 "1\nProperties=pos:R:3:radius:R:1 pbc=\"T T T\"\n",
                 2,

@@ -7,8 +7,16 @@ use glam::DVec3;
 
 use super::cells::Cells;
 use super::model::{Boundary, SimError, SphereState, World};
-use crate::error::Num;
 use crate::rng::Rng;
+
+/// `x` to four significant digits, for a derived quantity in a message.
+fn round4(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(3 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
+}
 
 /// A generator's refusal of one parameter.
 fn refuse<T>(generator: &'static str, field: &'static str, problem: String) -> Result<T, SimError> {
@@ -96,20 +104,24 @@ pub fn periodic_gas(
         return refuse(G, "n", format!("n = {n} must be in 1..=2^28"));
     }
     if !(phi > 0.0 && phi < 0.7) {
-        return refuse(G, "phi", format!("phi = {} must be in (0, 0.7)", Num(phi)));
+        return refuse(
+            G,
+            "phi",
+            format!("phi = {phi:?} must be above 0 and below 0.7"),
+        );
     }
     if !(radius > 0.0 && radius.is_finite()) {
         return refuse(
             G,
             "radius",
-            format!("radius = {} must be finite and greater than 0", Num(radius)),
+            format!("radius = {radius:?} must be finite and greater than 0"),
         );
     }
     if !(kt >= 0.0 && kt.is_finite()) {
         return refuse(
             G,
             "temperature",
-            format!("temperature = {} must be finite and at least 0", Num(kt)),
+            format!("temperature = {kt:?} must be finite and at least 0"),
         );
     }
     let m = ((n as f64 / 4.0).cbrt().ceil() as usize).max(1);
@@ -123,11 +135,10 @@ pub fn periodic_gas(
             G,
             "n",
             format!(
-                "{n} spheres at phi = {} fill a periodic box of side {}, less than the three \
-                 diameters ({}) the engine needs: use at least {fewest} spheres, or a lower phi",
-                Num(phi),
-                Num(side),
-                Num(needed)
+                "the box side from n = {n} and phi = {phi:?} is {}, less than three diameters \
+                 ({:?}): use more spheres (at least {fewest}) or a lower phi",
+                round4(side),
+                6.0 * radius
             ),
         );
     }
@@ -136,10 +147,7 @@ pub fn periodic_gas(
         return refuse(
             G,
             "phi",
-            format!(
-                "phi = {} is too dense for {n} spheres on {m}³ FCC cells",
-                Num(phi)
-            ),
+            format!("packing fraction {phi:?} is too dense for {n} spheres on {m}³ FCC cells"),
         );
     }
     let mut sites = room(4 * m * m * m, "a periodic gas's lattice sites")?;
@@ -224,11 +232,11 @@ pub fn random_spheres(
         return refuse(
             G,
             "radius",
-            format!("radius = {} must be finite and greater than 0", Num(radius)),
+            format!("radius = {radius:?} must be finite and greater than 0"),
         );
     }
     if !speed.is_finite() {
-        return refuse(G, "speed", format!("speed = {speed} must be finite"));
+        return refuse(G, "speed", format!("speed = {speed:?} must be finite"));
     }
     if !(lo.is_finite() && hi.is_finite()) {
         return refuse(G, "lo", format!("the region [{lo}, {hi}] must be finite"));
@@ -331,27 +339,30 @@ pub fn nozzle(
         return refuse(
             G,
             "direction",
-            format!("direction = {direction} must be finite and non-zero"),
+            if direction.is_finite() {
+                "direction = [0, 0, 0] has no direction".to_string()
+            } else {
+                format!("direction = {direction} must be finite")
+            },
         );
     }
     if !(radius > 0.0 && radius.is_finite()) {
         return refuse(
             G,
             "radius",
-            format!("radius = {} must be finite and greater than 0", Num(radius)),
+            format!("radius = {radius:?} must be finite and greater than 0"),
         );
     }
     if !speed.is_finite() {
-        return refuse(G, "speed", format!("speed = {speed} must be finite"));
+        return refuse(G, "speed", format!("speed = {speed:?} must be finite"));
     }
     if !(spacing >= 2.0 * radius && spacing.is_finite()) {
         return refuse(
             G,
             "spacing",
             format!(
-                "spacing = {} must be finite and at least a diameter ({})",
-                Num(spacing),
-                Num(2.0 * radius)
+                "spacing = {spacing:?} must be at least a diameter ({:?})",
+                2.0 * radius
             ),
         );
     }
@@ -359,15 +370,11 @@ pub fn nozzle(
         return refuse(
             G,
             "jitter",
-            format!(
-                "jitter = {} must be at least 0 and less than the spacing ({})",
-                Num(jitter),
-                Num(spacing)
-            ),
+            format!("jitter = {jitter:?} must be at least 0 and below the spacing ({spacing:?})"),
         );
     }
     if !spread.is_finite() {
-        return refuse(G, "spread", format!("spread = {spread} must be finite"));
+        return refuse(G, "spread", format!("spread = {spread:?} must be finite"));
     }
     let mut out = room(n, "a nozzle's spheres")?;
     let mut rng = Rng::new(seed);
@@ -421,7 +428,7 @@ pub fn cubic_lattice(
         return refuse(
             G,
             "radius",
-            format!("radius = {} must be finite and greater than 0", Num(radius)),
+            format!("radius = {radius:?} must be finite and greater than 0"),
         );
     }
     if !(spacing >= 2.0 * radius && spacing.is_finite()) {
@@ -429,9 +436,8 @@ pub fn cubic_lattice(
             G,
             "spacing",
             format!(
-                "spacing = {} must be finite and at least a diameter ({})",
-                Num(spacing),
-                Num(2.0 * radius)
+                "spacing = {spacing:?} must be at least a diameter ({:?})",
+                2.0 * radius
             ),
         );
     }

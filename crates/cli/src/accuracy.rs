@@ -16,13 +16,19 @@ pub struct Args {
     /// Seed of the case generator (any integer from 0 to 2⁶⁴ − 1).
     #[arg(long, default_value_t = 2026)]
     seed: u64,
-    /// Where to write the Markdown report.
-    #[arg(long, default_value = "docs/accuracy.md")]
+    /// Where to write the Markdown report (default: spheresweep-accuracy/accuracy.md in the
+    /// current directory).
+    #[arg(long, default_value = "spheresweep-accuracy/accuracy.md")]
     out: PathBuf,
     /// Where to write the SVG plot (linked from the report by file name); by default beside
     /// the report, with the extension `.svg`.
     #[arg(long)]
     svg: Option<PathBuf>,
+    /// Replace the report or plot even if a git checkout tracks it (as `--out
+    /// docs/accuracy.md` at the root of this project's checkout does); without it, such a
+    /// file is refused before the study runs.
+    #[arg(long)]
+    force: bool,
 }
 
 /// The most pairs per family `--cases` accepts.
@@ -45,6 +51,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     crate::output::distinct(&args.out, &svg)?;
     crate::output::check_writable(&args.out)?;
     crate::output::check_writable(&svg)?;
+    crate::checkout::refuse_tracked(&args.out, "--out", args.force)?;
+    crate::checkout::refuse_tracked(&svg, "--svg", args.force)?;
     let bar = ProgressBar::new((study::Family::ALL.len() + study::SWEPT.len()) as u64 + 1);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",

@@ -2,9 +2,11 @@
 
 mod accuracy;
 mod bench;
+mod checkout;
 mod demo;
 mod interrupt;
 mod memory;
+mod number;
 mod output;
 mod picture;
 mod progress;
@@ -34,7 +36,8 @@ enum Command {
     /// parry3d in the same run, one thread (`--quick` for a run under a minute, `--json`).
     Bench(bench::Args),
     /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
-    /// throughput from the same run; write docs/accuracy.md and its SVG plot.
+    /// throughput from the same run; write the report and its SVG plot to
+    /// spheresweep-accuracy/ (`--out docs/accuracy.md --force` regenerates the committed one).
     Accuracy(accuracy::Args),
     /// Simulate a scene file (TOML or JSON; docs/scene-format.md) to its end time: a progress
     /// bar, then a summary; trajectory.xyz, events.csv and summary.json in the output directory.
@@ -56,7 +59,10 @@ fn main() -> ExitCode {
         // them at once.
         Command::Bench(args) => interrupt::exit_if_requested_during(
             "the benchmark (it writes no file; the figures printed so far stand)",
-            || bench::run(&args),
+            || {
+                eprintln!("bench: measuring (Ctrl-C or SIGTERM ends it at once)");
+                bench::run(&args)
+            },
         )
         .map_err(Into::into)
         .and_then(|result| result),

@@ -1,9 +1,17 @@
 //! Up-front memory refusal: a scene or a chunk too large for the memory available is refused
-//! before anything is allocated, with the count, the estimated bytes and the memory available.
+//! before anything is allocated, with the count, the estimated bytes, the memory available and
+//! the limit that set it.
+//!
+//! The memory available is the smallest of what the machine has free (`MemAvailable`), what
+//! the process's address-space limit (`ulimit -v`, RLIMIT_AS) leaves, and what its cgroup's
+//! memory limit leaves (v2 `memory.max`, v1 `memory.limit_in_bytes`, at its cgroup and every
+//! ancestor) — or `SPHERESWEEP_MAX_MEMORY` alone when set.
+
+use std::path::{Path, PathBuf};
 
 /// Environment variable that sets the memory available, in bytes (suffixes K, M, G, T for
-/// powers of 1024), instead of `MemAvailable` of /proc/meminfo: for tests, and for machines
-/// shared with other work.
+/// powers of 1024), instead of the system's limits: for tests, and for machines shared with
+/// other work.
 pub const MAX_MEMORY_VAR: &str = "SPHERESWEEP_MAX_MEMORY";
 
 /// Bytes a size such as `512M`, `2G` or `1000000` stands for.
@@ -24,34 +32,163 @@ fn parse_bytes(text: &str) -> Option<u64> {
     digits.trim().parse::<u64>().ok()?.checked_mul(1 << shift)
 }
 
-/// The memory available and where the figure comes from: the environment variable, else
-/// `MemAvailable` of /proc/meminfo; `None` when neither is there (then nothing is refused).
-pub fn available() -> Result<Option<(u64, &'static str)>, String> {
+/// Memory this process may still take, and the limit that says so.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Limit {
+    pub bytes: u64,
+    pub source: String,
+}
+
+/// The memory available: `SPHERESWEEP_MAX_MEMORY` when set, else the smallest of the
+/// system's limits; `None` when none can be read (then nothing is refused).
+pub fn available() -> Result<Option<Limit>, String> {
     if let Ok(text) = std::env::var(MAX_MEMORY_VAR) {
         return parse_bytes(&text)
-            .map(|b| Some((b, MAX_MEMORY_VAR)))
+            .map(|bytes| {
+                Some(Limit {
+                    bytes,
+                    source: MAX_MEMORY_VAR.into(),
+                })
+            })
             .ok_or_else(|| {
                 format!("{MAX_MEMORY_VAR}={text:?} is not a size in bytes (e.g. 512M, 8G)")
             });
     }
-    let Ok(meminfo) = std::fs::read_to_string("/proc/meminfo") else {
-        return Ok(None);
-    };
-    Ok(meminfo
+    Ok([mem_available(), address_space(), cgroup()]
+        .into_iter()
+        .flatten()
+        .min_by_key(|l| l.bytes))
+}
+
+/// `MemAvailable` of /proc/meminfo.
+fn mem_available() -> Option<Limit> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kb = kib_field(&meminfo, "MemAvailable:")?;
+    Some(Limit {
+        bytes: kb.saturating_mul(1024),
+        source: "MemAvailable in /proc/meminfo".into(),
+    })
+}
+
+/// A `NAME:   123 kB` field of /proc/meminfo or /proc/self/status, in KiB.
+fn kib_field(text: &str, name: &str) -> Option<u64> {
+    let value = text.lines().find_map(|l| l.strip_prefix(name))?;
+    value.trim().strip_suffix("kB")?.trim().parse().ok()
+}
+
+/// The soft limit of `Max address space` in /proc/self/limits; `None` when unlimited.
+fn parse_address_limit(limits: &str) -> Option<u64> {
+    let line = limits
         .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))
-        .and_then(|v| v.trim().strip_suffix("kB"))
-        .and_then(|kb| kb.trim().parse::<u64>().ok())
-        .map(|kb| (kb.saturating_mul(1024), "MemAvailable in /proc/meminfo")))
+        .find_map(|l| l.strip_prefix("Max address space"))?;
+    line.split_whitespace().next()?.parse().ok()
+}
+
+/// What the address-space limit (RLIMIT_AS, `ulimit -v`) leaves: the limit less the
+/// process's mapped size (`VmSize`).
+fn address_space() -> Option<Limit> {
+    let limit = parse_address_limit(&std::fs::read_to_string("/proc/self/limits").ok()?)?;
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let used = kib_field(&status, "VmSize:")
+        .unwrap_or(0)
+        .saturating_mul(1024);
+    Some(Limit {
+        bytes: limit.saturating_sub(used),
+        source: format!(
+            "the address-space limit, ulimit -v, of {} less {} mapped",
+            short(limit),
+            short(used)
+        ),
+    })
+}
+
+/// The process's cgroup of the memory controller in /proc/self/cgroup: `(true, path)` for
+/// cgroup v2 (`0::PATH`), `(false, path)` for v1 (`N:…memory…:PATH`).
+fn parse_cgroups(text: &str) -> Vec<(bool, String)> {
+    text.lines()
+        .filter_map(|line| {
+            let mut parts = line.splitn(3, ':');
+            let (id, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+            if id == "0" && controllers.is_empty() {
+                Some((true, path.to_string()))
+            } else if controllers.split(',').any(|c| c == "memory") {
+                Some((false, path.to_string()))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// A limit in a cgroup file: a number of bytes, or none (`max`, or v1's unlimited, which is
+/// close to 2⁶³).
+fn limit_value(text: &str) -> Option<u64> {
+    text.trim().parse::<u64>().ok().filter(|&b| b < 1 << 60)
+}
+
+/// What the cgroup memory limits leave: at the process's cgroup and each ancestor, the limit
+/// less the usage; the smallest.
+fn cgroup() -> Option<Limit> {
+    let text = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let mut best: Option<Limit> = None;
+    for (v2, path) in parse_cgroups(&text) {
+        let (roots, limit, usage): (&[&str], _, _) = if v2 {
+            (
+                &["/sys/fs/cgroup", "/sys/fs/cgroup/unified"],
+                "memory.max",
+                "memory.current",
+            )
+        } else {
+            (
+                &["/sys/fs/cgroup/memory"],
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+            )
+        };
+        for root in roots {
+            let mut dir = PathBuf::from(root).join(path.trim_start_matches('/'));
+            loop {
+                if let Some(found) = cgroup_level(&dir, limit, usage)
+                    && best.as_ref().is_none_or(|b| found.bytes < b.bytes)
+                {
+                    best = Some(found);
+                }
+                if dir == Path::new(root) || !dir.pop() {
+                    break;
+                }
+            }
+        }
+    }
+    best
+}
+
+/// The limit of one cgroup directory less its usage.
+fn cgroup_level(dir: &Path, limit: &str, usage: &str) -> Option<Limit> {
+    let file = dir.join(limit);
+    let max = limit_value(&std::fs::read_to_string(&file).ok()?)?;
+    let used = std::fs::read_to_string(dir.join(usage))
+        .ok()
+        .and_then(|t| t.trim().parse::<u64>().ok())
+        .unwrap_or(0);
+    Some(Limit {
+        bytes: max.saturating_sub(used),
+        source: format!(
+            "the cgroup memory limit, {}, of {} less {} in use",
+            file.display(),
+            short(max),
+            short(used)
+        ),
+    })
 }
 
 /// Refuses `bytes` (for `what`) above the memory available.
 pub fn check(what: &str, bytes: u64) -> Result<(), String> {
     match available()? {
-        Some((limit, source)) if bytes > limit => Err(format!(
-            "{what} needs about {} but {} is available ({source}): refused before allocating",
+        Some(limit) if bytes > limit.bytes => Err(format!(
+            "{what} needs about {} but {} is available ({}): refused before allocating",
             human(bytes),
-            human(limit)
+            human(limit.bytes),
+            limit.source
         )),
         _ => Ok(()),
     }
@@ -73,13 +210,18 @@ pub fn check_scene(
     }
 }
 
-/// Bytes in MiB or GiB.
+/// Bytes in MiB or GiB, and exactly.
 pub fn human(bytes: u64) -> String {
+    format!("{} ({bytes} B)", short(bytes))
+}
+
+/// Bytes in MiB or GiB.
+fn short(bytes: u64) -> String {
     let b = bytes as f64;
     if b >= (1u64 << 30) as f64 {
-        format!("{:.2} GiB ({bytes} B)", b / (1u64 << 30) as f64)
+        format!("{:.2} GiB", b / (1u64 << 30) as f64)
     } else {
-        format!("{:.1} MiB ({bytes} B)", b / (1u64 << 20) as f64)
+        format!("{:.1} MiB", b / (1u64 << 20) as f64)
     }
 }
 
@@ -95,5 +237,50 @@ mod tests {
         assert_eq!(parse_bytes("x"), None);
         assert_eq!(parse_bytes("5Q"), None);
         assert_eq!(parse_bytes("99999999999T"), None);
+    }
+
+    #[test]
+    fn the_address_space_limit_is_read_from_proc_limits() {
+        let limits = "Limit                     Soft Limit           Hard Limit           Units     \n\
+                      Max stack size            8388608              unlimited            bytes     \n\
+                      Max address space         2147483648           unlimited            bytes     \n";
+        assert_eq!(parse_address_limit(limits), Some(2 << 30));
+        let unlimited = limits.replace("2147483648", "unlimited");
+        assert_eq!(parse_address_limit(&unlimited), None);
+        assert_eq!(
+            kib_field("VmPeak:\t 10 kB\nVmSize:\t  2048 kB\n", "VmSize:"),
+            Some(2048)
+        );
+    }
+
+    #[test]
+    fn the_memory_cgroup_is_found_in_v1_and_v2() {
+        let hybrid = "9:name=systemd:/\n4:memory:/jobs/42\n3:cpu,cpuacct:/\n0::/user.slice\n";
+        assert_eq!(
+            parse_cgroups(hybrid),
+            [(false, "/jobs/42".into()), (true, "/user.slice".into())]
+        );
+        assert_eq!(parse_cgroups("4:cpu,memory:/a\n"), [(false, "/a".into())]);
+        assert_eq!(limit_value("max\n"), None);
+        assert_eq!(limit_value("9223372036854771712\n"), None);
+        assert_eq!(limit_value("4294967296\n"), Some(4 << 30));
+    }
+
+    #[test]
+    fn a_cgroup_level_leaves_its_limit_less_its_usage() {
+        let dir = std::env::temp_dir().join(format!("spheresweep-cgroup-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("memory.max"), "1073741824\n").unwrap();
+        std::fs::write(dir.join("memory.current"), "268435456\n").unwrap();
+        let found = cgroup_level(&dir, "memory.max", "memory.current").unwrap();
+        assert_eq!(found.bytes, 3 << 28);
+        assert!(
+            found.source.contains("memory.max") && found.source.contains("1.00 GiB less 256.0 MiB"),
+            "{}",
+            found.source
+        );
+        std::fs::write(dir.join("memory.max"), "max\n").unwrap();
+        assert_eq!(cgroup_level(&dir, "memory.max", "memory.current"), None);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -4,6 +4,7 @@
 
 mod canvas;
 mod font;
+mod frame;
 
 use std::error::Error;
 
@@ -15,6 +16,7 @@ use spheresweep::sim::SphereState;
 use spheresweep::{Container, Cylinder, Plane};
 
 pub use canvas::{Anchor, Canvas, Paint, Rect, Rgb, text_width};
+pub use frame::{bounds, outside};
 
 /// A closed polyline approximating the circle of radius `r` around `(x, y)` (data units).
 fn circle(x: f64, y: f64, r: f64) -> Vec<(f64, f64)> {
@@ -190,6 +192,8 @@ pub struct Shapes {
     pub cylinders: Vec<Cylinder>,
     pub containers: Vec<Container>,
     pub periodic_box: Option<DVec3>,
+    /// The region of an open box boundary (`[boundary] kind = "box"`): open space, framed.
+    pub region: Option<(DVec3, DVec3)>,
     /// Shade the side of each plane its normal points away from, as ground.
     pub ground: bool,
 }
@@ -203,6 +207,10 @@ impl Shapes {
             containers: world.containers.iter().map(|p| p.shape).collect(),
             periodic_box: match world.boundary {
                 spheresweep::sim::Boundary::Periodic { size } => Some(size),
+                _ => None,
+            },
+            region: match world.boundary {
+                spheresweep::sim::Boundary::OpenBox { lo, hi } => Some((lo, hi)),
                 _ => None,
             },
             ground: false,
@@ -258,6 +266,8 @@ const PANEL: Rgb = Rgb::hex(0xfbfbfb);
 const VESSEL: Rgb = Rgb::hex(0x5a6470);
 const PILLAR: Rgb = Rgb::hex(0x8a939e);
 const FLOOR: Rgb = Rgb::hex(0x8c6d46);
+const PERIODIC: Rgb = Rgb::hex(0xd62728);
+const REGION: Rgb = Rgb::hex(0xb0b0b0);
 
 /// Pixels from scene units for one panel.
 struct Map {
@@ -289,42 +299,6 @@ impl Map {
             self.origin.1 - (v - self.v0) * self.scale,
         )
     }
-}
-
-/// The bounds of a set of spheres and shapes: the spheres' extents, the containers, the points
-/// that place the planes and cylinders, and the periodic box, padded by 4 %.
-pub fn bounds<'a>(
-    spheres: impl IntoIterator<Item = &'a SphereState>,
-    shapes: &Shapes,
-) -> (DVec3, DVec3) {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    let mut add = |c: DVec3, r: f64| {
-        if c.is_finite() && r.is_finite() {
-            lo = lo.min(c - r);
-            hi = hi.max(c + r);
-        }
-    };
-    for s in spheres {
-        add(s.centre, s.radius);
-    }
-    for k in &shapes.containers {
-        add(k.centre().as_dvec3(), f64::from(k.radius()));
-    }
-    for c in &shapes.cylinders {
-        add(c.point().as_dvec3(), f64::from(c.radius()));
-    }
-    for p in &shapes.planes {
-        add(p.point().as_dvec3(), 0.0);
-    }
-    if let Some(b) = shapes.periodic_box {
-        add(DVec3::ZERO, 0.0);
-        add(b, 0.0);
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return (DVec3::splat(-1.0), DVec3::splat(1.0));
-    }
-    let pad = ((hi - lo).max_element() * 0.04).max(1e-6);
-    (lo - pad, hi + pad)
 }
 
 /// Base text size for a picture `width` pixels wide.
@@ -388,15 +362,6 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         let c = map.px(view.project(k.centre().as_dvec3()));
         let r = f64::from(k.radius()) * map.scale;
         canvas.disk(c, r, Some(Rgb::hex(0xeef2f6).into()), None);
-    }
-    if let Some(b) = shapes.periodic_box {
-        let (w, h) = view.project(b);
-        let (a, c) = (map.px((0.0, 0.0)), map.px((w, h)));
-        canvas.line(
-            vec![a, (c.0, a.1), c, (a.0, c.1), a],
-            Rgb::hex(0x7f7f7f),
-            1.5,
-        );
     }
     // Cylinders: a disk when seen along the axis, otherwise a band of half-width r.
     for c in &shapes.cylinders {
@@ -489,6 +454,18 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         let c = map.px(view.project(k.centre().as_dvec3()));
         let r = f64::from(k.radius()) * map.scale;
         canvas.disk(c, r, None, Some((VESSEL.into(), 2.5)));
+    }
+    // The periodic box over the spheres (they fill it to its faces), and the open box of the
+    // cell grid, which spheres may leave.
+    let outline = |canvas: &mut Canvas, (lo, hi): (DVec3, DVec3), colour: Rgb, width: f64| {
+        let (a, c) = (map.px(view.project(lo)), map.px(view.project(hi)));
+        canvas.line(vec![a, (c.0, a.1), c, (a.0, c.1), a], colour, width);
+    };
+    if let Some(b) = shapes.periodic_box {
+        outline(canvas, (DVec3::ZERO, b), PERIODIC, 2.0);
+    }
+    if let Some(region) = shapes.region {
+        outline(canvas, region, REGION, 1.5);
     }
     // Trajectories: start ○, end ●.
     for path in content.paths {
@@ -622,6 +599,8 @@ pub fn legend(
 
 /// Colours of the vessel, pillars and floor, for legends.
 pub const SHAPE_COLOURS: (Rgb, Rgb, Rgb) = (VESSEL, PILLAR, FLOOR);
+/// Colours of the periodic box's and the open box's outlines, for legends.
+pub const BOX_COLOURS: (Rgb, Rgb) = (PERIODIC, REGION);
 
 /// A picture size in pixels, parsed from `WIDTHxHEIGHT`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -76,7 +76,8 @@ pub struct Args {
     geometry: bool,
     /// Rows read, queried and written at a time, 1 to 67 108 864 (2²⁶): memory grows with it
     /// (about 0.7 KiB a row at most), not with the input. A chunk larger than the memory
-    /// available (MemAvailable, or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
+    /// available (the least of MemAvailable, what ulimit -v and the cgroup's memory limit
+    /// leave; or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
     #[arg(long, default_value_t = 1 << 20, value_name = "N")]
     chunk_rows: usize,
 }
@@ -418,9 +419,13 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         Some(p) => (p.clone(), Output::from_path(p)?),
         None => input.default_output(),
     };
-    for p in input.paths() {
-        crate::output::distinct(p, &out_path)
-            .map_err(|e| format!("the output would overwrite the input: {e}"))?;
+    // The output is none of the inputs, through a link or not; a directory of columns,
+    // replaced whole, holds none of them.
+    let mut inputs = input.paths();
+    inputs.extend(args.against.as_deref());
+    crate::output::not_an_input(&out_path, &inputs)?;
+    if output == Output::NpyDir {
+        crate::output::no_input_inside(&out_path, &inputs)?;
     }
     let mut source = input.open(layout, args.chunk_rows)?;
     let columns = OutColumn::of(layout, args.geometry);

@@ -2,7 +2,10 @@
 //! snapshots (extended XYZ, as `spheresweep run` writes them: one frame, or every frame as a
 //! numbered sequence), side and/or top view, as SVG and/or PNG.
 //!
-//! Everything that can be refused (the input, the frame, the scene of shapes, the output
+//! Pictures are framed by the scene's periodic box, open box or vessel, else by a robust
+//! extent of the spheres (`picture::frame`); spheres outside the frame are counted in the
+//! caption. Everything that can be refused (the input — a snapshot with a position that is
+//! not finite or a negative radius included —, the frame, the scene of shapes, the output
 //! directory) is refused before any picture is written; each picture is written under a
 //! temporary name and renamed into place, and if writing one fails, the pictures this run had
 //! already added are removed again.
@@ -36,9 +39,10 @@ pub struct Args {
     /// every frame.
     #[arg(long, value_name = "K")]
     frame: Option<usize>,
-    /// Snapshots only: draw this scene file's planes, cylinders and containers behind the
-    /// spheres, and name its materials in the legend.
-    /// Default: none, the spheres only.
+    /// Snapshots only: draw this scene file's planes, cylinders, containers and boundary with
+    /// the spheres, frame the pictures by its boundary or vessel, and name its materials in
+    /// the legend. Default: the scene that the summary.json beside the snapshots names (as
+    /// `run` writes it), if it has as many spheres; else none, the spheres only.
     #[arg(long, value_name = "SCENE")]
     scene: Option<PathBuf>,
     /// Which files: svg, png or both.
@@ -131,6 +135,170 @@ fn read_snapshots(path: &Path) -> Result<Vec<Frame>, String> {
     Ok(frames)
 }
 
+/// What is drawn: the frames, which of them, the static shapes and the names of materials.
+struct Record {
+    frames: Vec<Frame>,
+    chosen: Vec<usize>,
+    shapes: Shapes,
+    /// Legend entries of the static shapes, naming their materials.
+    shape_keys: Vec<(Key, String)>,
+    material_names: Vec<String>,
+    /// The scene file the shapes come from, if any.
+    scene_path: Option<PathBuf>,
+    /// Where the shapes came from, when not named on the command line.
+    note: Option<String>,
+}
+
+/// A scene file, drawn at `t = 0`.
+fn scene_record(args: &Args) -> Result<Record, Box<dyn Error>> {
+    if args.frame.is_some() {
+        return Err(format!(
+            "--frame applies to snapshots (.xyz), not to the scene file {}",
+            args.input.display()
+        )
+        .into());
+    }
+    if args.scene.is_some() {
+        return Err(format!(
+            "--scene applies to snapshots (.xyz): {} is a scene file already",
+            args.input.display()
+        )
+        .into());
+    }
+    let world = scene_world(&args.input)?;
+    let shapes = Shapes::of_world(&world);
+    Ok(Record {
+        chosen: vec![0],
+        shape_keys: shape_keys(&world),
+        material_names: world.materials,
+        frames: vec![Frame {
+            time: 0.0,
+            periodic_box: shapes.periodic_box,
+            spheres: world.spheres,
+        }],
+        shapes,
+        scene_path: None,
+        note: None,
+    })
+}
+
+/// The world of a scene file, refused up front if too large for memory.
+fn scene_world(path: &Path) -> Result<spheresweep::sim::World, Box<dyn Error>> {
+    let scene = SceneFile::from_path(path)?;
+    crate::memory::check_scene(path, &scene, size_of::<SphereState>())?;
+    Ok(scene.build()?.0)
+}
+
+/// Recorded snapshots, with the shapes and material names of `--scene`, or else of the scene
+/// that `run` recorded in the `summary.json` beside them (when it exists and has as many
+/// spheres as the first frame).
+fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
+    let frames = read_snapshots(&args.input)?;
+    let chosen = match args.frame {
+        Some(k) if k >= frames.len() => {
+            return Err(format!(
+                "--frame {k}: {} has {} frame{} (0 to {})",
+                args.input.display(),
+                frames.len(),
+                if frames.len() == 1 { "" } else { "s" },
+                frames.len() - 1
+            )
+            .into());
+        }
+        Some(k) => vec![k],
+        None => (0..frames.len()).collect(),
+    };
+    let (world, scene_path, note) = match &args.scene {
+        Some(path) => (Some(scene_world(path)?), Some(path.clone()), None),
+        None => match scene_of_run(&args.input, frames[0].spheres.len()) {
+            Some((path, world)) => {
+                let note = format!(
+                    "shapes and materials of {} (the scene summary.json names; --scene to \
+                     choose another)",
+                    path.display()
+                );
+                (Some(world), Some(path), Some(note))
+            }
+            None => (None, None, None),
+        },
+    };
+    let mut shapes = world.as_ref().map(Shapes::of_world).unwrap_or_default();
+    if shapes.periodic_box.is_none() {
+        shapes.periodic_box = frames[0].periodic_box;
+    }
+    Ok(Record {
+        frames,
+        chosen,
+        shapes,
+        shape_keys: world.as_ref().map(shape_keys).unwrap_or_default(),
+        material_names: world.map(|w| w.materials).unwrap_or_default(),
+        scene_path,
+        note,
+    })
+}
+
+/// The scene a run's `summary.json` beside `snapshots` names, and its world, if it can be
+/// read and has `spheres` spheres; `None` otherwise (the pictures then have no shapes).
+fn scene_of_run(snapshots: &Path, spheres: usize) -> Option<(PathBuf, spheresweep::sim::World)> {
+    let summary = snapshots.with_file_name("summary.json");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(summary).ok()?).ok()?;
+    let path = PathBuf::from(json.get("scene")?.as_str()?);
+    let scene = SceneFile::from_path(&path).ok()?;
+    if scene.sphere_count()? != spheres {
+        return None;
+    }
+    crate::memory::check_scene(&path, &scene, size_of::<SphereState>()).ok()?;
+    Some((path, scene.build().ok()?.0))
+}
+
+/// Legend entries of a world's static shapes: how many of each kind, and their materials.
+fn shape_keys(world: &spheresweep::sim::World) -> Vec<(Key, String)> {
+    let (vessel, pillar, floor) = picture::SHAPE_COLOURS;
+    let named = |materials: Vec<u16>, one: &str, many: &str| {
+        let mut names: Vec<&str> = materials
+            .iter()
+            .map(|&m| {
+                world
+                    .materials
+                    .get(usize::from(m))
+                    .map_or("?", String::as_str)
+            })
+            .collect();
+        names.dedup();
+        let n = materials.len();
+        format!(
+            "{n} {}: {}",
+            if n == 1 { one } else { many },
+            names.join(", ")
+        )
+    };
+    let mut keys = Vec::new();
+    if !world.planes.is_empty() {
+        let m = world.planes.iter().map(|p| p.material).collect();
+        keys.push((Key::Swatch(floor), named(m, "plane", "planes")));
+    }
+    if !world.cylinders.is_empty() {
+        let m = world.cylinders.iter().map(|c| c.material).collect();
+        keys.push((Key::Swatch(pillar), named(m, "cylinder", "cylinders")));
+    }
+    if !world.containers.is_empty() {
+        let m = world.containers.iter().map(|c| c.material).collect();
+        keys.push((Key::Swatch(vessel), named(m, "container", "containers")));
+    }
+    let (periodic, region) = picture::BOX_COLOURS;
+    match world.boundary {
+        spheresweep::sim::Boundary::Periodic { .. } => {
+            keys.push((Key::Swatch(periodic), "periodic box".into()));
+        }
+        spheresweep::sim::Boundary::OpenBox { .. } => {
+            keys.push((Key::Swatch(region), "open box (the frame)".into()));
+        }
+        _ => {}
+    }
+    keys
+}
+
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     // The input, and everything asked of it, before any output.
     let kind = kind_of(&args.input)?;
@@ -147,66 +315,18 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         }
     });
     let name = file_name(&args.input);
-    let mut material_names: Vec<String> = Vec::new();
-    let frames: Vec<Frame>;
-    let mut shapes = Shapes::default();
-    let chosen: Vec<usize>;
-    match kind {
-        Input::Scene => {
-            if args.frame.is_some() {
-                return Err(format!(
-                    "--frame applies to snapshots (.xyz), not to the scene file {}",
-                    args.input.display()
-                )
-                .into());
-            }
-            if args.scene.is_some() {
-                return Err(format!(
-                    "--scene applies to snapshots (.xyz): {} is a scene file already",
-                    args.input.display()
-                )
-                .into());
-            }
-            let scene = SceneFile::from_path(&args.input)?;
-            crate::memory::check_scene(&args.input, &scene, size_of::<SphereState>())?;
-            let (world, _) = scene.build()?;
-            shapes = Shapes::of_world(&world);
-            material_names.clone_from(&world.materials);
-            frames = vec![Frame {
-                time: 0.0,
-                periodic_box: shapes.periodic_box,
-                spheres: world.spheres,
-            }];
-            chosen = vec![0];
-        }
-        Input::Snapshots => {
-            frames = read_snapshots(&args.input)?;
-            chosen = match args.frame {
-                Some(k) if k >= frames.len() => {
-                    return Err(format!(
-                        "--frame {k}: {} has {} frame{} (0 to {})",
-                        args.input.display(),
-                        frames.len(),
-                        if frames.len() == 1 { "" } else { "s" },
-                        frames.len() - 1
-                    )
-                    .into());
-                }
-                Some(k) => vec![k],
-                None => (0..frames.len()).collect(),
-            };
-            if let Some(scene_path) = &args.scene {
-                let scene = SceneFile::from_path(scene_path)?;
-                crate::memory::check_scene(scene_path, &scene, size_of::<SphereState>())?;
-                let (world, _) = scene.build()?;
-                shapes = Shapes::of_world(&world);
-                material_names.clone_from(&world.materials);
-            }
-            if shapes.periodic_box.is_none() {
-                shapes.periodic_box = frames[0].periodic_box;
-            }
-        }
-    }
+    let Record {
+        frames,
+        chosen,
+        shapes,
+        shape_keys,
+        material_names,
+        scene_path,
+        note,
+    } = match kind {
+        Input::Scene => scene_record(args)?,
+        Input::Snapshots => snapshot_record(args)?,
+    };
 
     // Every picture shares one view of the whole record, so that a sequence stays still.
     let bounds = picture::bounds(frames.iter().flat_map(|f| &f.spheres), &shapes);
@@ -215,22 +335,26 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .iter()
         .map(|&k| {
             let f = &frames[k];
+            // Spheres the frame leaves out are counted, never silently dropped.
+            let spheres = match picture::outside(&f.spheres, bounds) {
+                0 => format!("{} spheres", f.spheres.len()),
+                n => format!("{} spheres ({n} outside the frame)", f.spheres.len()),
+            };
             match kind {
                 Input::Scene => Picture {
                     stem: args
                         .input
                         .file_stem()
                         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned()),
-                    title: format!("{name}: {} spheres at t = 0", f.spheres.len()),
+                    title: format!("{name}: {spheres} at t = 0"),
                     spheres: &f.spheres,
                 },
                 Input::Snapshots => Picture {
                     stem: format!("frame-{k:0digits$}"),
                     title: format!(
-                        "{name}: frame {k} of {}, t = {}, {} spheres",
+                        "{name}: frame {k} of {}, t = {}, {spheres}",
                         frames.len(),
-                        f.time,
-                        f.spheres.len()
+                        crate::number::num(f.time),
                     ),
                     spheres: &f.spheres,
                 },
@@ -244,8 +368,22 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         return Err(format!("--out {}: not a directory", dir.display()).into());
     }
     let extensions = args.format.extensions();
-    let first = dir.join(format!("{}.{}", pictures[0].stem, extensions[0]));
-    crate::output::check_writable(&first)?;
+    let outputs: Vec<PathBuf> = pictures
+        .iter()
+        .flat_map(|p| {
+            extensions
+                .iter()
+                .map(|ext| dir.join(format!("{}.{ext}", p.stem)))
+        })
+        .collect();
+    let inputs: Vec<&Path> = std::iter::once(args.input.as_path())
+        .chain(scene_path.as_deref())
+        .collect();
+    for path in &outputs {
+        crate::output::not_an_input(path, &inputs)?;
+    }
+    crate::output::check_writable(&outputs[0])?;
+    crate::output::remove_stale_temporaries(&outputs);
 
     let used: Vec<u16> = {
         let mut m: Vec<u16> = chosen
@@ -265,6 +403,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 .unwrap_or_else(|| format!("material {m}"));
             (Key::Disk(colour(m)), label)
         })
+        .chain(shape_keys)
         .collect();
     // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
     // one is whole (written under a temporary name and renamed).
@@ -313,6 +452,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .into());
     }
     let mut out = std::io::stdout().lock();
+    if let Some(note) = note {
+        writeln!(out, "{note}")?;
+    }
     match written.as_slice() {
         [] => {}
         [(only, _)] => writeln!(out, "wrote {} ({size} px)", only.display())?,

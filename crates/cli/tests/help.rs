@@ -42,7 +42,10 @@ const SUBCOMMANDS: &[(&str, &[&str])] = &[
             "--chunk-rows",
         ],
     ),
-    ("accuracy", &["--cases", "--seed", "--out", "--svg"]),
+    (
+        "accuracy",
+        &["--cases", "--seed", "--out", "--svg", "--force"],
+    ),
     ("bench", &["--quick", "--json", "--sim", "--edmd"]),
     (
         "render",

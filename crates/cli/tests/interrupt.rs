@@ -153,7 +153,6 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
         assert!(child.try_wait().unwrap().is_none(), "the run ended first");
         std::thread::sleep(Duration::from_millis(5));
     }
-    std::thread::sleep(Duration::from_millis(100));
     let stopped = interrupt_once(&mut child, &dir, "INT");
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
@@ -184,11 +183,10 @@ fn sigterm_stops_demo_without_writing_a_picture() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // The demo prints its scene before it simulates.
+    // The demo prints its scene before it simulates, with the handler installed.
     let mut stdout = child.stdout.take().unwrap();
     let mut first = [0u8; 1];
     stdout.read_exact(&mut first).unwrap();
-    std::thread::sleep(Duration::from_millis(300));
     let stopped = interrupt_once(&mut child, &dir, "TERM");
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
@@ -341,7 +339,6 @@ fn sigterm_stops_accuracy_before_anything_is_written() {
     let mut first = [0u8; 9];
     stderr.read_exact(&mut first).unwrap();
     assert_eq!(&first, b"accuracy:");
-    std::thread::sleep(Duration::from_millis(300));
     let stopped = stop(&mut child, "TERM", stderr);
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
@@ -364,12 +361,11 @@ fn sigint_stops_bench() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(500));
-    assert!(
-        child.try_wait().unwrap().is_none(),
-        "bench ended within 0.5 s"
-    );
-    let stderr = child.stderr.take().unwrap();
+    // It says when the measurements start (the handler is installed by then).
+    let mut stderr = child.stderr.take().unwrap();
+    let mut first = [0u8; 6];
+    stderr.read_exact(&mut first).unwrap();
+    assert_eq!(&first, b"bench:");
     let stopped = stop(&mut child, "INT", stderr);
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");

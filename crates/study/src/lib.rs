@@ -1,7 +1,7 @@
 //! The accuracy study of spheresweep: an exact oracle, hard-case families, error measures
 //! per accuracy mode and family, and the published trade-off of error against throughput
-//! (`spheresweep accuracy` writes docs/accuracy.md). A workspace member of its own, so that
-//! the library never compiles its oracle, plots or peer.
+//! (`spheresweep accuracy --out docs/accuracy.md --force` writes docs/accuracy.md). A
+//! workspace member of its own, so that the library never compiles its oracle, plots or peer.
 
 pub mod condition;
 pub mod families;

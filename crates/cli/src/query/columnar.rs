@@ -25,7 +25,7 @@ use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::basic::Compression;
 use parquet::file::properties::WriterProperties;
 
-use super::layout::{Chunk, Layout, OutColumn, OutType, Results, Values};
+use super::layout::{Chunk, Layout, OutColumn, OutType, Results, Values, beyond_f32, narrow};
 use super::staged::{StagedFile, finish_writer};
 use super::{Sink, Source, guarded};
 
@@ -184,6 +184,8 @@ enum Refused {
     Null(usize),
     /// Not a float column.
     Type(DataType),
+    /// A Float64 value beyond f32's range at this row of the batch.
+    Beyond(usize, f64),
 }
 
 /// Appends rows `range` of a float column to `out`, refusing nulls and other types.
@@ -201,11 +203,13 @@ fn append(
         DataType::Float32 => {
             out.extend_from_slice(&array.as_primitive::<Float32Type>().values()[range]);
         }
-        DataType::Float64 => out.extend(
-            array.as_primitive::<Float64Type>().values()[range]
-                .iter()
-                .map(|&v| v as f32),
-        ),
+        DataType::Float64 => {
+            let values = &array.as_primitive::<Float64Type>().values()[range.clone()];
+            if let Some(k) = values.iter().position(|&v| narrow(v).is_none()) {
+                return Err(Refused::Beyond(range.start + k, values[k]));
+            }
+            out.extend(values.iter().map(|&v| v as f32));
+        }
         other => return Err(Refused::Type(other.clone())),
     }
     Ok(())
@@ -233,6 +237,12 @@ impl Source for BatchSource {
                         "{}: row {}, column {name}: null (every row needs a value)",
                         self.what,
                         self.rows + (i - offset) as u64
+                    ),
+                    Refused::Beyond(i, v) => format!(
+                        "{}: row {}, column {name}: {}",
+                        self.what,
+                        self.rows + (i - offset) as u64,
+                        beyond_f32(crate::number::num(v))
                     ),
                     Refused::Type(t) => format!(
                         "{}: column {name} has type {t}, expected Float32 or Float64",
@@ -412,5 +422,24 @@ impl Sink for IpcSink {
 
     fn path(&self) -> &Path {
         self.staged.path()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A Float64 value beyond f32's range is refused at its row, as CSV and `.npy` refuse it.
+    #[test]
+    fn a_float64_beyond_f32_is_refused_at_its_row() {
+        let array: ArrayRef = Arc::new(Float64Array::from(vec![1.0, 2.0, -1e39, 4.0]));
+        let mut out = Vec::new();
+        assert!(matches!(
+            append(&array, 1..4, &mut out),
+            Err(Refused::Beyond(2, v)) if v == -1e39
+        ));
+        assert!(out.is_empty());
+        append(&array, 0..2, &mut out).map_err(|_| ()).unwrap();
+        assert_eq!(out, [1.0, 2.0]);
     }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use super::layout::{Chunk, Layout, OutColumn, Results, Values, kind_name};
+use super::layout::{Chunk, Layout, OutColumn, Results, Values, beyond_f32, kind_name};
 use super::staged::{StagedFile, finish_writer};
 use super::{Sink, Source};
 
@@ -98,6 +98,13 @@ impl CsvSource {
         let header = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&text);
         let at = format!("{}: line 1 (the header)", path.display());
         let header = trim_line(header);
+        if header.contains(&b'\r') {
+            return Err(format!(
+                "{at}: the lines end in a carriage return alone (CR, as on classic Mac OS), which \
+                 this reader does not take: convert the file to \\n or \\r\\n line endings (e.g. \
+                 tr '\\r' '\\n' < in.csv > out.csv)"
+            ));
+        }
         if header.iter().all(u8::is_ascii_whitespace) {
             return Err(format!(
                 "{at}: empty: expected the names of the columns {}",
@@ -218,9 +225,7 @@ fn number(text: &str) -> Result<f32, String> {
         .parse::<f32>()
         .map_err(|_| format!("{text:?} is not a number"))?;
     if value.is_infinite() && !text.to_ascii_lowercase().contains("inf") {
-        return Err(format!(
-            "{text} is beyond the range of f32 (magnitudes up to 3.4e38)"
-        ));
+        return Err(beyond_f32(text));
     }
     Ok(value)
 }

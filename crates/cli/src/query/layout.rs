@@ -215,6 +215,18 @@ impl OutColumn {
 pub const KIND_NONE: u8 = 0;
 
 /// The name of a `kind` code in CSV output.
+/// What is wrong with an input value beyond `f32`'s range, in every format's messages.
+pub fn beyond_f32(value: impl fmt::Display) -> String {
+    format!("{value} is beyond the range of f32 (magnitudes up to 3.4e38)")
+}
+
+/// An `f64` input rounded to `f32`, or `None` when it is finite but beyond `f32`'s range
+/// (rounding would make it infinite). NaN and infinities pass, for validation to name.
+pub fn narrow(v: f64) -> Option<f32> {
+    let x = v as f32;
+    (x.is_finite() || !v.is_finite()).then_some(x)
+}
+
 pub fn kind_name(code: u8) -> &'static str {
     match code {
         1 => "plane",

@@ -9,11 +9,31 @@ use std::path::{Path, PathBuf};
 
 use npyz::{NpyFile, NpyReader, Order, WriteOptions, WriterBuilder};
 
-use super::layout::{Chunk, Layout, OutColumn, Results, Values};
+use super::layout::{Chunk, Layout, OutColumn, Results, Values, beyond_f32, narrow};
 use super::staged::{StagedDir, StagedFile};
 use super::{Sink, Source, guarded};
 
 type In = BufReader<File>;
+
+/// An `f8` element beyond `f32`'s range, `offset` elements into a read: the read stops there.
+#[derive(Debug)]
+struct Beyond {
+    offset: usize,
+    value: f64,
+}
+
+impl std::fmt::Display for Beyond {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&beyond_f32(crate::number::num(self.value)))
+    }
+}
+
+impl std::error::Error for Beyond {}
+
+/// `v` as `f32`, or the error that stops a read at element `offset`.
+fn rounded(v: f64, offset: usize) -> std::io::Result<f32> {
+    narrow(v).ok_or_else(|| std::io::Error::other(Beyond { offset, value: v }))
+}
 
 /// A reader of one array's elements, in file order: little-endian floats (what NumPy writes
 /// on every common machine) straight from the bytes, anything else through `npyz`'s typed
@@ -52,7 +72,7 @@ impl Elements {
                     if *wide {
                         for (j, b) in bytes.chunks_exact(8).enumerate() {
                             let v = f64::from_le_bytes(b.try_into().map_err(|_| eof())?);
-                            put(k + j, v as f32);
+                            put(k + j, rounded(v, k + j)?);
                         }
                     } else {
                         for (j, b) in bytes.chunks_exact(4).enumerate() {
@@ -70,7 +90,7 @@ impl Elements {
             }
             Elements::F64(r) => {
                 for k in 0..n {
-                    put(k, r.next().ok_or_else(eof)?? as f32);
+                    put(k, rounded(r.next().ok_or_else(eof)??, k)?);
                 }
             }
         }
@@ -99,6 +119,14 @@ impl Elements {
             let m = (n - done).min((1 << 16) / k.max(1)).max(1);
             bytes.resize(m * k * size, 0);
             reader.read_exact(bytes)?;
+            if *wide {
+                for (e, b) in bytes.chunks_exact(8).enumerate() {
+                    rounded(
+                        f64::from_le_bytes(b.try_into().unwrap_or([0; 8])),
+                        done * k + e,
+                    )?;
+                }
+            }
             // Column by column over the block (it stays in cache): each column is extended
             // by an exact-size iterator rather than pushed to element by element.
             for (j, column) in columns.iter_mut().enumerate() {
@@ -358,19 +386,30 @@ impl Source for NpySource {
                 format!("cannot read {}: {e}", self.what)
             }
         };
-        let names = self.layout.columns();
+        // A value beyond f32's range, named by its row and column as CSV names it.
+        let beyond = |e: &std::io::Error, place: &dyn Fn(usize) -> (u64, &'static str)| {
+            let b = e.get_ref()?.downcast_ref::<Beyond>()?;
+            let (row, column) = place(b.offset);
+            Some(format!("{}: row {row}, column {column}: {b}", self.what))
+        };
+        let (names, first) = (self.layout.columns(), self.read);
         match &mut self.arrays {
             Arrays::Columns(readers) => {
                 for ((r, col), name) in readers.iter_mut().zip(&mut chunk.columns).zip(names) {
                     col.reserve(n);
-                    r.read(n, |_, v| col.push(v))
-                        .map_err(|e| truncated(e, Some(name)))?;
+                    r.read(n, |_, v| col.push(v)).map_err(|e| {
+                        beyond(&e, &|at| (first + at as u64, *name))
+                            .unwrap_or_else(|| truncated(e, Some(name)))
+                    })?;
                 }
             }
             Arrays::Rows(r) => {
                 chunk.columns.iter_mut().for_each(|c| c.reserve(n));
-                r.read_rows(n, &mut chunk.columns)
-                    .map_err(|e| truncated(e, None))?;
+                let k = names.len();
+                r.read_rows(n, &mut chunk.columns).map_err(|e| {
+                    beyond(&e, &|at| (first + (at / k) as u64, names[at % k]))
+                        .unwrap_or_else(|| truncated(e, None))
+                })?;
             }
         }
         self.read += n as u64;

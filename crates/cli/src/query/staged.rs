@@ -8,11 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::layout::OutColumn;
 
-/// The temporary name beside `path`: `.name.PID.tmp` (what `output.rs` uses too).
-fn temporary(path: &Path, suffix: &str) -> PathBuf {
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    path.with_file_name(format!(".{name}.{}.{suffix}", std::process::id()))
-}
+use crate::output::{set_aside, temporary};
 
 fn fail(path: &Path) -> impl Fn(std::io::Error) -> String + '_ {
     move |e| format!("cannot write {}: {e}", path.display())
@@ -30,7 +26,7 @@ impl StagedFile {
     /// Creates the temporary file (checked with `output::check_writable` first).
     pub fn create(path: &Path) -> Result<Self, String> {
         crate::output::check_writable(path)?;
-        let tmp = temporary(path, "tmp");
+        let tmp = temporary(path);
         let file = File::create(&tmp).map_err(fail(path))?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -122,7 +118,8 @@ impl StagedDir {
         {
             std::fs::create_dir_all(parent).map_err(fail(path))?;
         }
-        let tmp = temporary(path, "tmp");
+        crate::output::remove_stale_temporaries(std::slice::from_ref(&path.to_path_buf()));
+        let tmp = temporary(path);
         let _ = std::fs::remove_dir_all(&tmp);
         std::fs::create_dir(&tmp).map_err(fail(path))?;
         Ok(Self {
@@ -150,7 +147,7 @@ impl StagedDir {
     /// Renames the finished directory into place (the files must have been synced). An
     /// earlier result at the path is moved aside first and removed after.
     pub fn commit(mut self) -> Result<(), String> {
-        let old = temporary(&self.path, "old");
+        let old = set_aside(&self.path);
         let had_old = self.path.exists();
         if had_old {
             let _ = std::fs::remove_dir_all(&old);

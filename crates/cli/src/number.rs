@@ -1,0 +1,37 @@
+//! Numbers in messages: as Rust's `{}` prints them for magnitudes from 10⁻⁴ to below 10⁶
+//! (`0.5`, `250000`), in exponent form beyond (`1e39`, `1e300`, `2.5e-7`), so that no message
+//! carries a number of hundreds of digits. Zero, infinities and NaN print as `{}` does.
+
+/// `x` for a message.
+pub fn num(x: f64) -> String {
+    let m = x.abs();
+    if m == 0.0 || !m.is_finite() || (1e-4..1e6).contains(&m) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn plain_inside_the_range_exponent_form_outside() {
+        for (x, text) in [
+            (0.5, "0.5"),
+            (-2.0, "-2"),
+            (1e-4, "0.0001"),
+            (999_999.0, "999999"),
+            (1e6, "1e6"),
+            (1e39, "1e39"),
+            (-1e300, "-1e300"),
+            (2.5e-7, "2.5e-7"),
+            (0.0, "0"),
+            (f64::INFINITY, "inf"),
+            (f64::NAN, "NaN"),
+        ] {
+            assert_eq!(num(x), text, "{x:?}");
+        }
+    }
+}
