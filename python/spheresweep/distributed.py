@@ -56,9 +56,9 @@ SPHERE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "r")
 HALO_MARGIN = 2.0**-6
 _UNIT_ROUNDOFF = 2.0**-24  # float32
 
-# The binding's scene query codes kinds 1 sphere, 2 plane, 3 cylinder, 4 container; the query
-# files (docs/query-format.md) code the shapes 1 plane, 2 cylinder, 3 container (0 none).
-_SCENE_KIND_SPHERE = 1
+# The query files (docs/query-format.md) code the shapes as the binding does (KIND_PLANE 1,
+# KIND_CYLINDER 2, KIND_CONTAINER 3) and "none" as 0 (they never report a sphere, KIND_SPHERE 0).
+_FILE_KIND_NONE = 0
 
 
 def _native():
@@ -186,7 +186,7 @@ def _static_partition(frame, shapes, t_max, accuracy):
     ss = _native()
     n = len(frame)
     time = np.full(n, np.inf, dtype=np.float32)
-    kind = np.zeros(n, dtype=np.uint8)
+    kind = np.full(n, _FILE_KIND_NONE, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
     if n and shapes:
         spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
@@ -197,7 +197,10 @@ def _static_partition(frame, shapes, t_max, accuracy):
         time = table[np.arange(n), column]
         hit = np.isfinite(time)
         codes = np.array(
-            [1] * len(planes) + [2] * len(cylinders) + [3] * len(containers), dtype=np.uint8
+            [ss.KIND_PLANE] * len(planes)
+            + [ss.KIND_CYLINDER] * len(cylinders)
+            + [ss.KIND_CONTAINER] * len(containers),
+            dtype=np.uint8,
         )
         starts = np.array(
             [0] * len(planes)
@@ -205,7 +208,7 @@ def _static_partition(frame, shapes, t_max, accuracy):
             + [len(planes) + len(cylinders)] * len(containers),
             dtype=np.int64,
         )
-        kind = np.where(hit, codes[column], 0).astype(np.uint8)
+        kind = np.where(hit, codes[column], _FILE_KIND_NONE).astype(np.uint8)
         index = np.where(hit, column - starts[column], -1).astype(np.int64)
         time = time.astype(np.float32)
     return frame.assign(time=time, kind=kind, index=index)
@@ -562,7 +565,7 @@ def _local_scene(part, shapes):
 
 def _global_partners(kind, index, members):
     """Partner indices with local sphere indices mapped to global ones (shapes unchanged)."""
-    spheres = kind == _SCENE_KIND_SPHERE
+    spheres = kind == _native().KIND_SPHERE
     return np.where(spheres, members[np.where(spheres, index, 0)], index)
 
 
@@ -772,7 +775,7 @@ def first_contacts(
     )  # fmt: skip
     n = len(plan.owner)
     time = np.full(n, np.inf, dtype=np.float32)
-    kind = np.zeros(n, dtype=np.uint8)
+    kind = np.full(n, _native().KIND_NONE, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
     point = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None
     normal = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None

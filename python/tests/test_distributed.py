@@ -180,8 +180,9 @@ def test_sharded_spheres_against_shapes_match_the_scene_query(client, tmp_path):
     scene = ss.Scene(spheres, planes, cylinders, containers)
     first = ss.first_contacts(scene, t_max=4.0)
     scene_kind = np.asarray(first.kind)
-    assert not (scene_kind == 1).any()  # no sphere touches a sphere: the reference holds
-    file_kind = np.where(scene_kind == 0, 0, scene_kind - 1)  # 2,3,4 -> 1,2,3
+    assert not (scene_kind == ss.KIND_SPHERE).any()  # no sphere touches a sphere: the reference holds
+    # The same codes for the shapes; "none" is 0 in the query files.
+    file_kind = np.where(scene_kind == ss.KIND_NONE, 0, scene_kind)
     np.testing.assert_array_equal(bits(got["time"]), bits(first.time))
     np.testing.assert_array_equal(got["kind"].to_numpy(), file_kind)
     np.testing.assert_array_equal(got["index"].to_numpy(), first.index)
@@ -278,7 +279,7 @@ def test_partitioned_first_contacts_match_one_machine(client):
     )
     kind = np.asarray(expected.kind)
     partner = np.asarray(expected.index)
-    sphere_hits = np.nonzero(kind == 1)[0]
+    sphere_hits = np.nonzero(kind == ss.KIND_SPHERE)[0]
     # Spheres whose first contact is owned by another slab: the halo must provide them.
     assert (got.plan.owner[sphere_hits] != got.plan.owner[partner[sphere_hits]]).sum() >= 150
     np.testing.assert_array_equal(bits(got.time), bits(expected.time))
@@ -311,7 +312,7 @@ def test_a_halo_below_the_derived_width_loses_contacts(client):
         assert rows < full_rows  # a strict subset: contacts lost, none invented
         missing = np.array(sorted(full_rows - rows))
         # Every lost contact is a pair across a border, never a static contact.
-        assert (missing[:, 1] == 1).all()
+        assert (missing[:, 1] == ss.KIND_SPHERE).all()
         assert (full.plan.owner[missing[:, 0]] != full.plan.owner[missing[:, 2]]).all()
         lost[fraction] = len(missing)
     # 10 % less than the derived width already loses the tight pairs (24 of them at 3 borders).
