@@ -329,3 +329,44 @@ def test_partitioned_query_refusals(client):
     bad[42] = np.nan
     with pytest.raises(ValueError, match="42"):
         sd.first_contacts(centres, velocities, bad, t_max=1.0, client=client)
+
+
+def test_no_spheres_give_empty_answers(client):
+    none3, none = np.zeros((0, 3)), np.zeros(0)
+    hits = sd.all_contacts(none3, none3, none, t_max=1.0, partitions=4, client=client)
+    first = sd.first_contacts(none3, none3, none, t_max=1.0, partitions=4, client=client)
+    assert len(hits) == 0 and len(first) == 0 and hits.plan.partitions == 4
+
+
+def test_arguments_are_checked_before_any_task(client, tmp_path):
+    centres, velocities, radii, _ = crowded_scene(n=50)
+    # The binding's own message, raised on the client: no partition is blamed.
+    for call in (
+        lambda: sd.all_contacts(centres, velocities, radii, t_max=1.0, accuracy="exact", client=client),
+        lambda: sd.first_contacts(centres, velocities, radii, t_max=1.0, accuracy="exact", client=client),
+        lambda: sd.zip_times_parquet(tmp_path / "in", tmp_path / "out", accuracy="exact", client=client),
+    ):
+        with pytest.raises(ValueError, match=r'^accuracy: unknown accuracy mode "exact"'):
+            call()
+    frame = pd.DataFrame({c: [0.0] for c in sd.PAIR_COLUMNS})
+    with pytest.raises(TypeError, match="^source: expected a path or a list of paths of a Parquet dataset, got DataFrame"):
+        sd.zip_times_parquet(frame, tmp_path / "out", client=client)
+
+
+def test_without_dask_the_helpers_say_what_to_install():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['distributed'] = None; sys.modules['dask'] = None\n"
+        "import numpy as np\n"
+        "from spheresweep import distributed as sd\n"
+        "try:\n"
+        "    sd.all_contacts(np.zeros((2, 3)), np.zeros((2, 3)), np.ones(2), t_max=1.0)\n"
+        "except ModuleNotFoundError as e:\n"
+        "    print(e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("spheresweep.distributed needs distributed, which is not installed: "
+                                 "pip install 'spheresweep[distributed]'"), out.stdout
