@@ -386,7 +386,8 @@ impl Simulation {
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
         cylinders = None, containers = None, periodic_box = None, restitution = None,
         response = None, tc = None, materials = None, pairs = None, record_events = None,
-        geometry = None))]
+        geometry = None),
+        text_signature = "(centres, velocities, radii, masses=None, *, planes=None, cylinders=None, containers=None, periodic_box=None, restitution=None, response=None, tc=0.0, materials=None, pairs=None, record_events=False, geometry=False)")]
     fn from_spheres<'py>(
         py: Python<'py>,
         centres: &Bound<'py, PyAny>,
