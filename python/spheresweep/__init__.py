@@ -31,6 +31,7 @@ from ._native import (
     all_contacts,
     first_contacts,
     pair_times,
+    read_xyz,
     static_times,
     zip_times,
 )
@@ -54,6 +55,7 @@ __all__ = [
     "all_contacts",
     "first_contacts",
     "pair_times",
+    "read_xyz",
     "static_times",
     "zip_times",
 ]

@@ -1,10 +1,34 @@
 """Type stubs of spheresweep (the extension module spheresweep._native, re-exported)."""
 
 import os
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Literal, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = [
+    "ACCURACIES",
+    "KIND_CONTAINER",
+    "KIND_CYLINDER",
+    "KIND_NONE",
+    "KIND_PLANE",
+    "KIND_SPHERE",
+    "Container",
+    "Contacts",
+    "Cylinder",
+    "FirstContacts",
+    "Plane",
+    "Scene",
+    "Simulation",
+    "Spheres",
+    "__version__",
+    "all_contacts",
+    "first_contacts",
+    "pair_times",
+    "read_xyz",
+    "static_times",
+    "zip_times",
+]
 
 __version__: str
 
@@ -12,22 +36,23 @@ ACCURACIES: Tuple[str, str, str]
 """The accuracy modes, cheapest first: ("textbook", "stable", "double")."""
 
 KIND_NONE: int
-"""Kind code of "no contact" (0)."""
+"""Kind code of "no contact" (255; ``index`` is -1 there)."""
 KIND_SPHERE: int
-"""Kind code of a sphere (1)."""
+"""Kind code of a sphere (0, as the Rust ``ShapeKind`` and the checkpoint)."""
 KIND_PLANE: int
-"""Kind code of a plane (2)."""
+"""Kind code of a plane (1, as in the query files)."""
 KIND_CYLINDER: int
-"""Kind code of a cylinder (3)."""
+"""Kind code of a cylinder (2)."""
 KIND_CONTAINER: int
-"""Kind code of a container (4)."""
+"""Kind code of a container (3)."""
 
-Accuracy = Literal["textbook", "stable", "double"]
-ArrayLike = npt.ArrayLike
-Vector3 = Union[Sequence[float], npt.NDArray[np.floating[Any]], npt.NDArray[np.integer[Any]]]
-F32 = npt.NDArray[np.float32]
-F64 = npt.NDArray[np.float64]
+_Accuracy = Literal["textbook", "stable", "double"]
+_ArrayLike = npt.ArrayLike
+_Vector3 = Union[Sequence[float], npt.NDArray[np.floating[Any]], npt.NDArray[np.integer[Any]]]
+_F32 = npt.NDArray[np.float32]
+_F64 = npt.NDArray[np.float64]
 
+@final
 class Spheres:
     """Moving spheres in float32, validated once and kept in the library's column store.
 
@@ -39,45 +64,49 @@ class Spheres:
     or an invalid sphere (named by index and field). Pickles to the same bits.
     """
 
-    def __init__(
-        self,
-        centres: ArrayLike,
-        velocities: ArrayLike,
-        radii: ArrayLike,
-        masses: Optional[ArrayLike] = None,
-    ) -> None: ...
+    def __new__(
+        cls,
+        centres: _ArrayLike,
+        velocities: _ArrayLike,
+        radii: _ArrayLike,
+        masses: Optional[_ArrayLike] = None,
+    ) -> "Spheres": ...
     @staticmethod
     def from_columns(
-        x: ArrayLike,
-        y: ArrayLike,
-        z: ArrayLike,
-        vx: ArrayLike,
-        vy: ArrayLike,
-        vz: ArrayLike,
-        r: ArrayLike,
-        m: Optional[ArrayLike] = None,
+        x: _ArrayLike,
+        y: _ArrayLike,
+        z: _ArrayLike,
+        vx: _ArrayLike,
+        vy: _ArrayLike,
+        vz: _ArrayLike,
+        r: _ArrayLike,
+        m: Optional[_ArrayLike] = None,
     ) -> "Spheres":
         """Spheres from separate ``(N,)`` columns (the layout of Parquet and Arrow tables)."""
     def __len__(self) -> int: ...
+    def __getitem__(self, key: Union[int, slice, npt.ArrayLike], /) -> "Spheres":
+        """The selected spheres (int, slice, index array or boolean mask), copied."""
+    def __eq__(self, value: object, /) -> bool: ...
     @property
-    def centres(self) -> F32:
+    def centres(self) -> _F32:
         """Centres at t = 0: a new float32 ``(N, 3)`` array."""
     @property
-    def velocities(self) -> F32:
+    def velocities(self) -> _F32:
         """Velocities: a new float32 ``(N, 3)`` array."""
     @property
-    def radii(self) -> F32:
+    def radii(self) -> _F32:
         """Radii: a new float32 ``(N,)`` array."""
     @property
-    def masses(self) -> F32:
+    def masses(self) -> _F32:
         """Masses: a new float32 ``(N,)`` array."""
 
+@final
 class Plane:
     """A static infinite plane through ``point`` with normal ``normal`` (any non-zero length,
     normalised). Each vector is three real numbers (ints or floats, a sequence or an array),
     rounded to float32. Pickles as the inputs given, so a rebuilt plane has the same bits."""
 
-    def __init__(self, point: Vector3, normal: Vector3) -> None: ...
+    def __new__(cls, point: _Vector3, normal: _Vector3) -> "Plane": ...
     @property
     def point(self) -> Tuple[float, float, float]:
         """A point of the plane, as given (in float32)."""
@@ -85,12 +114,13 @@ class Plane:
     def normal(self) -> Tuple[float, float, float]:
         """The unit normal: the normal given, normalised (then rounded to float32)."""
 
+@final
 class Cylinder:
     """A static infinite cylinder of ``radius`` around the line through ``p1`` and ``p2``.
     Points and radius are real numbers (ints or floats), rounded to float32; pickles to the
     same bits."""
 
-    def __init__(self, p1: Vector3, p2: Vector3, radius: float) -> None: ...
+    def __new__(cls, p1: _Vector3, p2: _Vector3, radius: float) -> "Cylinder": ...
     @property
     def p1(self) -> Tuple[float, float, float]: ...
     @property
@@ -98,27 +128,28 @@ class Cylinder:
     @property
     def radius(self) -> float: ...
 
+@final
 class Container:
     """The inside of the sphere of ``radius`` around ``centre``; spheres move inside it.
     Centre and radius are real numbers (ints or floats), rounded to float32; pickles to the
     same bits."""
 
-    def __init__(self, centre: Vector3, radius: float) -> None: ...
+    def __new__(cls, centre: _Vector3, radius: float) -> "Container": ...
     @property
     def centre(self) -> Tuple[float, float, float]: ...
     @property
     def radius(self) -> float: ...
 
-Shape = Union[Plane, Cylinder, Container]
+_Shape = Union[Plane, Cylinder, Container]
 
 def zip_times(
     a: Spheres,
     b: Spheres,
     *,
     t_max: float = ...,
-    accuracy: Accuracy = "stable",
-    out: Optional[F32] = None,
-) -> F32:
+    accuracy: _Accuracy = "stable",
+    out: Optional[_F32] = None,
+) -> _F32:
     """Time of impact of ``a[i]`` with ``b[i]`` for every ``i``: float32 ``(N,)``, ``inf`` where
     the pair does not touch in ``[0, t_max]`` (``t_max`` rounded to float32, default ``inf``).
     ``out``, a C-contiguous float32 ``(N,)`` array, is written in place and returned. The GIL
@@ -126,35 +157,36 @@ def zip_times(
 
 def pair_times(
     s: Spheres,
-    i: ArrayLike,
-    j: ArrayLike,
+    i: _ArrayLike,
+    j: _ArrayLike,
     *,
     t_max: float = ...,
-    accuracy: Accuracy = "stable",
-    out: Optional[F32] = None,
-) -> F32:
+    accuracy: _Accuracy = "stable",
+    out: Optional[_F32] = None,
+) -> _F32:
     """Time of impact of each pair ``(i[k], j[k])`` of spheres of ``s``: float32 ``(P,)``."""
 
 def static_times(
     s: Spheres,
-    shapes: Sequence[Shape],
+    shapes: Sequence[_Shape],
     *,
     t_max: float = ...,
-    accuracy: Accuracy = "stable",
-) -> F32:
+    accuracy: _Accuracy = "stable",
+) -> _F32:
     """Time of impact of every sphere with each shape: float32 ``(N, len(shapes))``."""
 
+@final
 class Scene:
     """Spheres and the static shapes around them, for ``first_contacts`` and ``all_contacts``.
     Pickles to the same bits (spheres and shapes)."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         spheres: Spheres,
         planes: Optional[Sequence[Plane]] = None,
         cylinders: Optional[Sequence[Cylinder]] = None,
         containers: Optional[Sequence[Container]] = None,
-    ) -> None: ...
+    ) -> "Scene": ...
     def __len__(self) -> int: ...
     @property
     def spheres(self) -> Spheres:
@@ -163,38 +195,67 @@ class Scene:
     def shapes(self) -> Tuple[Tuple[Plane, ...], Tuple[Cylinder, ...], Tuple[Container, ...]]:
         """The planes, cylinders and containers as given."""
 
+@final
 class FirstContacts:
     """The earliest contact of every sphere, indexed by sphere."""
 
-    time: F32
+    time: _F32
     """float32 ``(N,)``: time of impact, ``inf`` for none."""
     kind: npt.NDArray[np.uint8]
     """uint8 ``(N,)``: ``KIND_*`` of the body touched, ``KIND_NONE`` for none."""
     index: npt.NDArray[np.int64]
     """int64 ``(N,)``: index of the body within its kind, -1 for none."""
-    point: Optional[F32]
+    point: Optional[_F32]
     """float32 ``(N, 3)`` contact points (NaN for none) with ``geometry=True``, else None."""
-    normal: Optional[F32]
+    normal: Optional[_F32]
     """float32 ``(N, 3)`` unit normals pushing the sphere away, or None."""
+    def __new__(
+        cls,
+        time: _F32,
+        kind: npt.NDArray[np.uint8],
+        index: npt.NDArray[np.int64],
+        point: Optional[_F32] = None,
+        normal: Optional[_F32] = None,
+    ) -> "FirstContacts":
+        """For unpickling: the columns as they were."""
     def __len__(self) -> int: ...
+    def as_dict(self) -> Dict[str, npt.NDArray[Any]]:
+        """1-D columns: time, kind, index, and point_x ... normal_z with geometry."""
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of ``as_dict()``, one row per sphere."""
 
+@final
 class Contacts:
     """Every contact in a window, one row each, sorted by time, then sphere, then body."""
 
-    time: F32
+    time: _F32
     sphere: npt.NDArray[np.uint32]
     kind: npt.NDArray[np.uint8]
     index: npt.NDArray[np.int64]
     """For two spheres ``sphere < index``; each pair appears once."""
-    point: Optional[F32]
-    normal: Optional[F32]
+    point: Optional[_F32]
+    normal: Optional[_F32]
+    def __new__(
+        cls,
+        time: _F32,
+        sphere: npt.NDArray[np.uint32],
+        kind: npt.NDArray[np.uint8],
+        index: npt.NDArray[np.int64],
+        point: Optional[_F32] = None,
+        normal: Optional[_F32] = None,
+    ) -> "Contacts":
+        """For unpickling: the columns as they were."""
     def __len__(self) -> int: ...
+    def as_dict(self) -> Dict[str, npt.NDArray[Any]]:
+        """1-D columns: time, sphere, kind, index, and point_x ... normal_z with geometry."""
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of ``as_dict()``, one row per contact."""
 
 def first_contacts(
     scene: Scene,
     *,
     t_max: float = ...,
-    accuracy: Accuracy = "stable",
+    accuracy: _Accuracy = "stable",
     geometry: bool = False,
 ) -> FirstContacts:
     """For every sphere, its earliest contact in ``[0, t_max]`` (ties: spheres, then planes,
@@ -204,11 +265,12 @@ def all_contacts(
     scene: Scene,
     *,
     t_max: float,
-    accuracy: Accuracy = "stable",
+    accuracy: _Accuracy = "stable",
     geometry: bool = False,
 ) -> Contacts:
     """Every contact in ``[0, t_max]``: each sphere pair once, every sphere with every shape."""
 
+@final
 class Simulation:
     """A running event-driven simulation in float64, collisions in exact time order."""
 
@@ -227,19 +289,19 @@ class Simulation:
         """``n`` hard spheres at packing fraction ``phi`` in a periodic cube, elastic."""
     @staticmethod
     def from_spheres(
-        centres: ArrayLike,
-        velocities: ArrayLike,
-        radii: ArrayLike,
-        masses: Optional[ArrayLike] = None,
+        centres: _ArrayLike,
+        velocities: _ArrayLike,
+        radii: _ArrayLike,
+        masses: Optional[_ArrayLike] = None,
         *,
         planes: Optional[Sequence[Union[Plane, Tuple[Plane, int]]]] = None,
         cylinders: Optional[Sequence[Union[Cylinder, Tuple[Cylinder, int]]]] = None,
         containers: Optional[Sequence[Union[Container, Tuple[Container, int]]]] = None,
-        periodic_box: Optional[Vector3] = None,
+        periodic_box: Optional[_Vector3] = None,
         restitution: Optional[float] = None,
         response: Optional[Literal["none", "elastic", "inelastic", "sticky"]] = None,
         tc: float = 0.0,
-        materials: Optional[ArrayLike] = None,
+        materials: Optional[_ArrayLike] = None,
         pairs: Optional[Sequence[Tuple[int, int, Union[float, str]]]] = None,
         record_events: bool = False,
         geometry: bool = False,
@@ -251,23 +313,28 @@ class Simulation:
         ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
         may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
         "sticky")`` overrides per pair of materials."""
-    def advance_to(self, t: float) -> None:
-        """Processes every collision up to ``t`` (GIL released)."""
+    def advance_to(self, t: float, *, progress: Optional[Callable[[float], Any]] = None) -> None:
+        """Processes every collision up to ``t`` (GIL released). Ctrl-C raises
+        KeyboardInterrupt between two events (the simulation usable); ``progress(time)`` is
+        called at most ten times a second and once with ``t`` at the end."""
     @property
     def time(self) -> float: ...
     @property
     def t_end(self) -> Optional[float]:
         """The scene file's ``[run] t_end``, or None."""
+    @property
+    def box(self) -> Optional[Tuple[float, float, float]]:
+        """The periodic box's lengths, or None in open space."""
     def __len__(self) -> int: ...
     @property
-    def positions(self) -> F64:
+    def positions(self) -> _F64:
         """float64 ``(N, 3)`` centres now (wrapped into a periodic box)."""
     @property
-    def velocities(self) -> F64: ...
+    def velocities(self) -> _F64: ...
     @property
-    def radii(self) -> F64: ...
+    def radii(self) -> _F64: ...
     @property
-    def masses(self) -> F64: ...
+    def masses(self) -> _F64: ...
     def kinetic_energy(self) -> float: ...
     def momentum(self) -> Tuple[float, float, float]: ...
     @property
@@ -283,5 +350,15 @@ class Simulation:
         """The state ``checkpoint`` saved, of the same system (radii, masses, materials,
         shapes, boundary, effects); ValueError otherwise."""
     def take_events(self) -> Dict[str, npt.NDArray[Any]]:
-        """Recorded collisions since the last call: time, sphere, kind, index, approach,
-        restitution, energy_lost (K,) and point, normal (K, 3)."""
+        """Recorded collisions since the last call, 1-D columns of K rows: time, sphere, kind,
+        index, approach, restitution, energy_lost, point_x, point_y, point_z, normal_x,
+        normal_y, normal_z (``pandas.DataFrame`` of it is a table)."""
+    def write_xyz(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Appends the state now as one extended XYZ frame (the CLI's trajectory format)."""
+    @staticmethod
+    def _unpickle(constructor: str, how: Any, state: bytes) -> "Simulation": ...
+    def __reduce__(self) -> Any: ...
+
+def read_xyz(path: Union[str, "os.PathLike[str]"]) -> List[Dict[str, Any]]:
+    """Every frame of an extended XYZ file: time, positions, velocities (N, 3), radii,
+    masses, materials (N,), box (tuple or None)."""

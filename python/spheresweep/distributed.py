@@ -19,6 +19,7 @@ Every function takes a ``client`` or uses the current one (``distributed.get_cli
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import shutil
@@ -56,9 +57,9 @@ SPHERE_COLUMNS = ("x", "y", "z", "vx", "vy", "vz", "r")
 HALO_MARGIN = 2.0**-6
 _UNIT_ROUNDOFF = 2.0**-24  # float32
 
-# The binding's scene query codes kinds 1 sphere, 2 plane, 3 cylinder, 4 container; the query
-# files (docs/query-format.md) code the shapes 1 plane, 2 cylinder, 3 container (0 none).
-_SCENE_KIND_SPHERE = 1
+# The query files (docs/query-format.md) code the shapes as the binding does (KIND_PLANE 1,
+# KIND_CYLINDER 2, KIND_CONTAINER 3) and "none" as 0 (they never report a sphere, KIND_SPHERE 0).
+_FILE_KIND_NONE = 0
 
 
 def _native():
@@ -68,11 +69,39 @@ def _native():
     return spheresweep
 
 
+#: What the helpers need beyond the package, and how to install it.
+INSTALL_HINT = (
+    "pip install 'spheresweep[distributed]' from the wheel (docs/distributed.md), "
+    "or pip install 'dask[distributed]' pandas pyarrow"
+)
+
+
+def _require(module: str):
+    """``module`` imported, or a ModuleNotFoundError saying what to install."""
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as e:
+        raise ModuleNotFoundError(
+            f"spheresweep.distributed needs {module.split('.')[0]}, which is not installed: "
+            f"{INSTALL_HINT}",
+            name=e.name,
+        ) from e
+
+
+def _check_query(t_max: float, accuracy: str) -> float:
+    """``t_max`` as a float and ``accuracy`` checked on the client, with the binding's own
+    messages (a query on no spheres), before any task runs."""
+    ss = _native()
+    none = ss.Spheres(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.float32), np.zeros(0, np.float32))
+    ss.zip_times(none, none, t_max=t_max, accuracy=accuracy)
+    return _check_t_max(t_max)
+
+
 def _client_or_current(client):
     """``client``, or the current ``distributed`` client; a ValueError naming the argument."""
     if client is not None:
         return client
-    from distributed import get_client
+    get_client = _require("distributed").get_client
 
     try:
         return get_client()
@@ -145,9 +174,9 @@ def _answer_and_write(frame, apply, args, source, directory, partition_info=None
     back to the client; an invalid value is a ValueError naming the partition and the row
     within it.
     """
-    import pandas as pd
-    import pyarrow as pa
-    import pyarrow.parquet as pq
+    pd = _require("pandas")
+    pa = _require("pyarrow")
+    pq = _require("pyarrow.parquet")
 
     number = 0 if partition_info is None else partition_info["number"]
     try:
@@ -186,7 +215,7 @@ def _static_partition(frame, shapes, t_max, accuracy):
     ss = _native()
     n = len(frame)
     time = np.full(n, np.inf, dtype=np.float32)
-    kind = np.zeros(n, dtype=np.uint8)
+    kind = np.full(n, _FILE_KIND_NONE, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
     if n and shapes:
         spheres = ss.Spheres.from_columns(*_float_columns(frame, SPHERE_COLUMNS))
@@ -197,7 +226,10 @@ def _static_partition(frame, shapes, t_max, accuracy):
         time = table[np.arange(n), column]
         hit = np.isfinite(time)
         codes = np.array(
-            [1] * len(planes) + [2] * len(cylinders) + [3] * len(containers), dtype=np.uint8
+            [ss.KIND_PLANE] * len(planes)
+            + [ss.KIND_CYLINDER] * len(cylinders)
+            + [ss.KIND_CONTAINER] * len(containers),
+            dtype=np.uint8,
         )
         starts = np.array(
             [0] * len(planes)
@@ -205,7 +237,7 @@ def _static_partition(frame, shapes, t_max, accuracy):
             + [len(planes) + len(cylinders)] * len(containers),
             dtype=np.int64,
         )
-        kind = np.where(hit, codes[column], 0).astype(np.uint8)
+        kind = np.where(hit, codes[column], _FILE_KIND_NONE).astype(np.uint8)
         index = np.where(hit, column - starts[column], -1).astype(np.int64)
         time = time.astype(np.float32)
     return frame.assign(time=time, kind=kind, index=index)
@@ -267,6 +299,15 @@ def _replace_directory(staged: str, final: str, overwrite: bool) -> None:
         os.rename(staged, final)
 
 
+def _is_paths(source) -> bool:
+    """Whether ``source`` is a path, or a non-empty list or tuple of paths."""
+    if isinstance(source, (str, os.PathLike)):
+        return True
+    return isinstance(source, (list, tuple)) and bool(source) and all(
+        isinstance(p, (str, os.PathLike)) for p in source
+    )
+
+
 def _staging_name(final: str, what: str) -> str:
     head, tail = os.path.split(final)
     return os.path.join(head, f".{tail}.{os.getpid()}.{what}")
@@ -274,14 +315,21 @@ def _staging_name(final: str, what: str) -> str:
 
 def _sharded_parquet(source, destination, needed, added, apply, args, client, overwrite,
                      split_row_groups):
-    import dask.dataframe as dd
-    import pandas as pd
+    dd = _require("dask.dataframe")
+    pd = _require("pandas")
 
+    if not _is_paths(source):
+        raise TypeError(
+            f"source: expected a path or a list of paths of a Parquet dataset, got "
+            f"{type(source).__name__} (write a DataFrame with to_parquet first)"
+        )
     client = _client_or_current(client)
     final = _local_destination(destination)
     if os.path.lexists(final) and not overwrite:
         raise FileExistsError(f"destination {final} exists (pass overwrite=True to replace it)")
-    label = os.fspath(source) if isinstance(source, (str, os.PathLike)) else repr(source)
+    label = os.fspath(source) if isinstance(source, (str, os.PathLike)) else repr(
+        [os.fspath(p) for p in source]
+    )
     frame = dd.read_parquet(source, split_row_groups=split_row_groups)
     _check_schema(frame._meta, needed, added, label)
     staged = _staging_name(final, "tmp")
@@ -330,7 +378,7 @@ def zip_times_parquet(
     within it for an invalid value; ``FileExistsError`` if ``destination`` exists and
     ``overwrite`` is false.
     """
-    t_max = _check_t_max(t_max)
+    t_max = _check_query(t_max, accuracy)
     return _sharded_parquet(
         source,
         destination,
@@ -364,7 +412,7 @@ def static_contacts_parquet(
     the shape's index within its kind, -1 none), ties to the plane, then the cylinder, then the
     container, then the lowest index. Output, staging and errors as :func:`zip_times_parquet`.
     """
-    t_max = _check_t_max(t_max)
+    t_max = _check_query(t_max, accuracy)
     shapes = _checked_shapes(shapes, "shapes")
     if not shapes:
         raise ValueError("shapes: no shapes given (a query against shapes needs at least one)")
@@ -500,7 +548,7 @@ def plan_slabs(
     order = np.argsort(x)
     xs = x[order]
     cuts = [(k * n) // partitions for k in range(1, partitions)]
-    bounds = xs[cuts] if n else np.zeros(0)
+    bounds = xs[cuts] if n else np.zeros(len(cuts))  # no spheres: empty slabs
     owner = np.searchsorted(bounds, x, side="right").astype(np.int32)
     edges = np.concatenate([[-np.inf], bounds, [np.inf]])
     members, owned = [], []
@@ -562,7 +610,7 @@ def _local_scene(part, shapes):
 
 def _global_partners(kind, index, members):
     """Partner indices with local sphere indices mapped to global ones (shapes unchanged)."""
-    spheres = kind == _SCENE_KIND_SPHERE
+    spheres = kind == _native().KIND_SPHERE
     return np.where(spheres, members[np.where(spheres, index, 0)], index)
 
 
@@ -724,7 +772,7 @@ def all_contacts(
     sorted by time, sphere, kind, index. ``halo`` overrides the derived width (see
     :func:`plan_slabs`). Errors as the binding's, naming spheres by their global index.
     """
-    t_max = _check_t_max(t_max)
+    t_max = _check_query(t_max, accuracy)
     plan, results = _scene_query(
         _local_all, centres, velocities, radii, masses, planes, cylinders, containers,
         t_max, accuracy, geometry, partitions, axis, halo, client,
@@ -765,17 +813,17 @@ def first_contacts(
     tie rule see the same candidates as on one machine): the columns of
     ``spheresweep.first_contacts`` on the whole scene, with the same bits.
     """
-    t_max = _check_t_max(t_max)
+    t_max = _check_query(t_max, accuracy)
     plan, results = _scene_query(
         _local_first, centres, velocities, radii, masses, planes, cylinders, containers,
         t_max, accuracy, geometry, partitions, axis, halo, client,
     )  # fmt: skip
     n = len(plan.owner)
     time = np.full(n, np.inf, dtype=np.float32)
-    kind = np.zeros(n, dtype=np.uint8)
+    kind = np.full(n, _native().KIND_NONE, dtype=np.uint8)
     index = np.full(n, -1, dtype=np.int64)
-    point = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None
-    normal = np.full((n, 3), np.nan, dtype=np.float32) if geometry else None
+    point = np.full((n if geometry else 0, 3), np.nan, dtype=np.float32)
+    normal = np.full((n if geometry else 0, 3), np.nan, dtype=np.float32)
     for part in results:
         s = part["sphere"]
         time[s] = part["time"]
@@ -784,4 +832,6 @@ def first_contacts(
         if geometry:
             point[s] = part["point"]
             normal[s] = part["normal"]
+    if not geometry:
+        return FirstContactTable(time, kind, index, None, None, plan)
     return FirstContactTable(time, kind, index, point, normal, plan)

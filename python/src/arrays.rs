@@ -2,8 +2,9 @@
 //! argument. Floating arrays of the target type are borrowed as they are (any strides: ndarray
 //! views read them in place); other floating and integer dtypes (real numbers) are converted
 //! once by NumPy's `astype` (round to nearest, as Rust's `as f32`); arrays of any other dtype
-//! (boolean, complex, strings, objects) are a `TypeError`. Lists, tuples and scalars go through
-//! `numpy.asarray(x, dtype=<target>)`, so Python ints and floats alike are accepted.
+//! (boolean, complex, strings, objects) are a `TypeError`, and so is a masked array. Lists,
+//! tuples, scalars and pandas columns go through `numpy.asarray(x)`: Python ints and floats
+//! are read as numbers, strings and booleans keep their dtype and are refused.
 
 use numpy::ndarray::ArrayViewD;
 use numpy::{
@@ -32,6 +33,15 @@ impl Expect {
         }
     }
 
+    /// The shape of an empty argument.
+    fn empty_shape(self) -> Vec<usize> {
+        match self {
+            Expect::Column => vec![0],
+            Expect::Rows3 => vec![0, 3],
+            Expect::Vector3 => vec![0],
+        }
+    }
+
     fn fits(self, shape: &[usize]) -> bool {
         match self {
             Expect::Column => shape.len() == 1,
@@ -41,23 +51,42 @@ impl Expect {
     }
 }
 
-/// `obj` as a NumPy array: an array as it is; anything else (lists, tuples, scalars) through
-/// `numpy.asarray(obj, dtype)` (a failure is a `ValueError` naming the argument).
+/// `obj` as a NumPy array: an array as it is; anything else (lists, tuples, scalars, pandas
+/// columns) through `numpy.asarray(obj)`, with no dtype forced, so that strings and booleans
+/// keep their own dtype and are refused by the caller (a failure is a `ValueError` naming the
+/// argument). An empty sequence becomes an empty array of `empty` (shape with N = 0) and
+/// `dtype`, since it has no dtype of its own. A masked array is a `TypeError`: its mask would
+/// be ignored.
 fn as_ndarray<'py>(
     obj: &Bound<'py, PyAny>,
     name: &str,
-    dtype: Option<Bound<'py, PyAny>>,
+    expect: Expect,
+    dtype: Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyUntypedArray>> {
     if let Ok(array) = obj.cast::<PyUntypedArray>() {
+        if array.hasattr("mask")? && array.hasattr("filled")? {
+            return Err(PyTypeError::new_err(format!(
+                "{name}: a masked array (its mask would be ignored): pass .filled(value) or \
+                 .compressed() instead"
+            )));
+        }
         return Ok(array.clone());
     }
     let numpy = obj.py().import("numpy")?;
     let array = numpy
-        .call_method1("asarray", (obj, dtype))
-        .map_err(|e| PyValueError::new_err(format!("{name}: cannot be read as an array ({e})")))?;
-    array
+        .call_method1("asarray", (obj,))
+        .map_err(|e| PyValueError::new_err(format!("{name}: cannot be read as an array ({e})")))?
         .cast_into::<PyUntypedArray>()
-        .map_err(|_| PyTypeError::new_err(format!("{name}: numpy.asarray did not give an array")))
+        .map_err(|_| {
+            PyTypeError::new_err(format!("{name}: numpy.asarray did not give an array"))
+        })?;
+    if array.len() == 0 && array.ndim() == 1 {
+        let empty = numpy.call_method1("zeros", (expect.empty_shape(), dtype))?;
+        return empty
+            .cast_into::<PyUntypedArray>()
+            .map_err(|e| PyTypeError::new_err(e.to_string()));
+    }
+    Ok(array)
 }
 
 fn shape_text(shape: &[usize]) -> String {
@@ -99,7 +128,7 @@ pub(crate) fn floats<'py, T: Element>(
     expect: Expect,
 ) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
     let py = obj.py();
-    let array = as_ndarray(obj, name, Some(T::get_dtype(py).into_any()))?;
+    let array = as_ndarray(obj, name, expect, T::get_dtype(py).into_any())?;
     let dtype = array.dtype();
     if !matches!(dtype.kind(), b'f' | b'i' | b'u') {
         return Err(PyTypeError::new_err(format!(
@@ -130,7 +159,8 @@ pub(crate) fn vector3<T: Element + Copy>(obj: &Bound<'_, PyAny>, name: &str) -> 
 /// `TypeError` if its dtype is not an integer type; `ValueError` if it is not 1-D, or an entry
 /// is negative or above `u32::MAX` (named by position).
 pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> {
-    let array = as_ndarray(obj, name, None)?;
+    let int64 = numpy::dtype::<i64>(obj.py()).into_any();
+    let array = as_ndarray(obj, name, Expect::Column, int64)?;
     let dtype = array.dtype();
     if !matches!(dtype.kind(), b'i' | b'u') {
         return Err(PyTypeError::new_err(format!(

@@ -5,7 +5,8 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use spheresweep::batch;
 
-use crate::batch::{Spheres, options, value_error};
+use crate::batch::value_error;
+use crate::spheres::Spheres;
 
 /// Hidden: times the Rust `zip_times` call alone on the stores already inside `a` and `b`,
 /// `repeats` times with the GIL released, and returns each call's wall time in nanoseconds.
@@ -23,7 +24,8 @@ pub fn _rust_zip_times_ns(
     repeats: usize,
     out: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Vec<u64>> {
-    let opts = options(t_max, accuracy)?;
+    let accuracy: spheresweep::Accuracy = accuracy.parse().map_err(value_error)?;
+    let opts = spheresweep::QueryOptions::new(t_max as f32, accuracy).map_err(value_error)?;
     let (a, b) = (&a.store, &b.store);
     let elapsed =
         |start: std::time::Instant| u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);

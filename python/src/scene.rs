@@ -1,29 +1,21 @@
-//! The whole-scene query: `Scene`, `first_contacts` and `all_contacts`, results as NumPy
+//! The whole-scene query: `Scene`, `first_contacts` and `all_contacts`, refused up front with
+//! a `MemoryError` when the estimated peak exceeds the memory available, results as NumPy
 //! arrays.
 
+use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2};
-use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyTuple, PyType};
+use spheresweep::QueryOptions;
 use spheresweep::contact::Contact;
+use spheresweep::query::{self, estimate};
 use spheresweep::scene::Scene as RustScene;
-use spheresweep::{ShapeKind, query};
 
-use crate::batch::{AnyStatic, Spheres, any_static, options};
-
-/// Kind code of "no contact".
-pub(crate) const KIND_NONE: u8 = 0;
-
-/// The kind code of a body: 1 sphere, 2 plane, 3 cylinder, 4 container.
-pub(crate) fn kind_code(kind: ShapeKind) -> u8 {
-    match kind {
-        ShapeKind::Sphere => 1,
-        ShapeKind::Plane => 2,
-        ShapeKind::Cylinder => 3,
-        ShapeKind::Container => 4,
-    }
-}
+use crate::args::{self, instance, show};
+use crate::memory;
+use crate::results::{Contacts, FirstContacts, KIND_NONE, kind_code};
+use crate::shapes::{AnyStatic, Takes, static_shape};
+use crate::spheres::{STORE_BYTES, Spheres};
 
 /// Spheres and the static shapes around them, validated: what `first_contacts` and
 /// `all_contacts` query. The spheres are copied once into the scene (one pass, no checks
@@ -38,46 +30,26 @@ pub struct Scene {
     given: [Py<PyTuple>; 3],
 }
 
-/// A shape argument as a tuple of its items (`TypeError` if it is not iterable).
-fn as_tuple<'py>(
+/// A shape argument as a tuple of its items, each checked to be of the kind `takes` names.
+pub(crate) fn shape_items<'py>(
     py: Python<'py>,
     items: Option<&Bound<'py, PyAny>>,
     name: &str,
-    kind: &str,
-) -> PyResult<Bound<'py, PyTuple>> {
-    let Some(items) = items else {
-        return Ok(PyTuple::empty(py));
+    takes: Takes,
+) -> PyResult<(Bound<'py, PyTuple>, Vec<AnyStatic>)> {
+    let Some(items) = args::optional(items) else {
+        return Ok((PyTuple::empty(py), Vec::new()));
     };
     let iter = items
         .try_iter()
-        .map_err(|_| PyTypeError::new_err(format!("{name}: expected a sequence of {kind}s")))?;
-    PyTuple::new(py, iter.collect::<PyResult<Vec<_>>>()?)
-}
-
-/// The items of `items`, each of the kind `pick` keeps (a `TypeError` naming the item else).
-fn shapes_of<T>(
-    items: &Bound<'_, PyTuple>,
-    name: &str,
-    kind: &str,
-    pick: impl Fn(AnyStatic) -> Option<T>,
-) -> PyResult<Vec<T>> {
-    items
+        .map_err(|_| args::wrong_type(name, "a sequence of shapes", items))?;
+    let tuple = PyTuple::new(py, iter.collect::<PyResult<Vec<_>>>()?)?;
+    let shapes = tuple
         .iter()
         .enumerate()
-        .map(|(k, item)| {
-            let label = format!("{name}[{k}]");
-            let wrong = || {
-                PyTypeError::new_err(format!(
-                    "{label}: expected a {kind}, got {}",
-                    item.get_type()
-                        .name()
-                        .map(|n| n.to_string())
-                        .unwrap_or_default()
-                ))
-            };
-            pick(any_static(&item, &label).map_err(|_| wrong())?).ok_or_else(wrong)
-        })
-        .collect()
+        .map(|(k, item)| static_shape(&item, &format!("{name}[{k}]"), takes))
+        .collect::<PyResult<_>>()?;
+    Ok((tuple, shapes))
 }
 
 #[pymethods]
@@ -85,29 +57,44 @@ impl Scene {
     #[new]
     #[pyo3(signature = (spheres, planes = None, cylinders = None, containers = None))]
     fn new(
-        spheres: PyRef<'_, Spheres>,
+        spheres: &Bound<'_, PyAny>,
         planes: Option<&Bound<'_, PyAny>>,
         cylinders: Option<&Bound<'_, PyAny>>,
         containers: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let py = spheres.py();
-        let planes = as_tuple(py, planes, "planes", "Plane")?;
-        let cylinders = as_tuple(py, cylinders, "cylinders", "Cylinder")?;
-        let containers = as_tuple(py, containers, "containers", "Container")?;
+        let spheres = instance::<Spheres>(spheres, "spheres", "Spheres")?;
+        let (planes, p) = shape_items(py, planes, "planes", Takes::Planes)?;
+        let (cylinders, c) = shape_items(py, cylinders, "cylinders", Takes::Cylinders)?;
+        let (containers, k) = shape_items(py, containers, "containers", Takes::Containers)?;
+        let n = spheres.store.len();
+        memory::check(
+            &format!("Scene: {n} spheres"),
+            n.saturating_mul(STORE_BYTES),
+        )?;
         let scene = RustScene {
             spheres: spheres.store.clone(),
-            planes: shapes_of(&planes, "planes", "Plane", |s| match s {
-                AnyStatic::Plane(p) => Some(p),
-                _ => None,
-            })?,
-            cylinders: shapes_of(&cylinders, "cylinders", "Cylinder", |s| match s {
-                AnyStatic::Cylinder(c) => Some(c),
-                _ => None,
-            })?,
-            containers: shapes_of(&containers, "containers", "Container", |s| match s {
-                AnyStatic::Container(k) => Some(k),
-                _ => None,
-            })?,
+            planes: p
+                .into_iter()
+                .filter_map(|s| match s {
+                    AnyStatic::Plane(p) => Some(p),
+                    _ => None,
+                })
+                .collect(),
+            cylinders: c
+                .into_iter()
+                .filter_map(|s| match s {
+                    AnyStatic::Cylinder(c) => Some(c),
+                    _ => None,
+                })
+                .collect(),
+            containers: k
+                .into_iter()
+                .filter_map(|s| match s {
+                    AnyStatic::Container(k) => Some(k),
+                    _ => None,
+                })
+                .collect(),
         };
         Ok(Self {
             scene,
@@ -117,15 +104,20 @@ impl Scene {
 
     /// The scene's spheres (a new `Spheres`, copied).
     #[getter]
-    fn spheres(&self) -> Spheres {
-        Spheres {
+    fn spheres(&self) -> PyResult<Spheres> {
+        let n = self.scene.spheres.len();
+        memory::check(
+            &format!("Scene.spheres: {n} spheres"),
+            n.saturating_mul(STORE_BYTES),
+        )?;
+        Ok(Spheres {
             store: self.scene.spheres.clone(),
-        }
+        })
     }
 
     /// The planes, cylinders and containers as given, each a tuple.
     #[getter]
-    fn shapes<'py>(&self, py: Python<'py>) -> (Py<PyTuple>, Py<PyTuple>, Py<PyTuple>) {
+    fn shapes(&self, py: Python<'_>) -> (Py<PyTuple>, Py<PyTuple>, Py<PyTuple>) {
         let [p, c, k] = &self.given;
         (p.clone_ref(py), c.clone_ref(py), k.clone_ref(py))
     }
@@ -139,13 +131,13 @@ impl Scene {
     #[allow(clippy::type_complexity)]
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
-    ) -> (
-        Bound<'py, pyo3::types::PyType>,
+    ) -> PyResult<(
+        Bound<'py, PyType>,
         (Spheres, Py<PyTuple>, Py<PyTuple>, Py<PyTuple>),
-    ) {
+    )> {
         let (py, me) = (slf.py(), slf.get());
         let (p, c, k) = me.shapes(py);
-        (slf.get_type(), (me.spheres(), p, c, k))
+        Ok((slf.get_type(), (me.spheres()?, p, c, k)))
     }
 
     fn __repr__(&self) -> String {
@@ -160,6 +152,38 @@ impl Scene {
     }
 }
 
+/// `MemoryError` if the query's estimated peak (the library's estimate, plus the result
+/// columns: `row_bytes` a row) exceeds the memory available.
+fn check_query(
+    name: &str,
+    scene: &RustScene,
+    opts: QueryOptions,
+    every: bool,
+    row_bytes: usize,
+) -> PyResult<()> {
+    let e = estimate::estimate(scene, opts, every);
+    let rows = if every {
+        e.contacts as usize
+    } else {
+        scene.spheres.len()
+    };
+    let bytes = (e.bytes as usize).saturating_add(rows.saturating_mul(row_bytes));
+    let why = if opts.t_max().is_finite() {
+        String::new()
+    } else {
+        " (an infinite window has no cull: every pair is a candidate, n (n - 1) / 2 of them)".into()
+    };
+    memory::check(
+        &format!(
+            "{name}: {} spheres, t_max = {}: {} candidate pairs{why}",
+            scene.spheres.len(),
+            show(f64::from(opts.t_max())),
+            e.candidate_pairs
+        ),
+        bytes,
+    )
+}
+
 /// Geometry columns being filled: `(K, 3)` points and normals in float32, NaN where none.
 struct GeometryColumns {
     point: Vec<f32>,
@@ -167,11 +191,11 @@ struct GeometryColumns {
 }
 
 impl GeometryColumns {
-    fn new(k: usize) -> Self {
-        Self {
-            point: vec![f32::NAN; 3 * k],
-            normal: vec![f32::NAN; 3 * k],
-        }
+    fn new(k: usize) -> PyResult<Self> {
+        Ok(Self {
+            point: memory::filled(3 * k, f32::NAN, "contact points")?,
+            normal: memory::filled(3 * k, f32::NAN, "contact normals")?,
+        })
     }
 
     fn set(&mut self, row: usize, c: &Contact) {
@@ -181,113 +205,61 @@ impl GeometryColumns {
         self.normal[3 * row..3 * row + 3].copy_from_slice(&n);
     }
 
-    fn into_arrays(self, py: Python<'_>) -> (Py<PyArray2<f32>>, Py<PyArray2<f32>>) {
-        let k = self.point.len() / 3;
+    #[allow(clippy::type_complexity)]
+    fn into_arrays(
+        geo: Option<Self>,
+        py: Python<'_>,
+    ) -> (
+        Option<Py<numpy::PyArray2<f32>>>,
+        Option<Py<numpy::PyArray2<f32>>>,
+    ) {
+        let Some(g) = geo else {
+            return (None, None);
+        };
+        let k = g.point.len() / 3;
         let arr = |v: Vec<f32>| {
             Array2::from_shape_vec((k, 3), v)
                 .expect("3 per row")
                 .into_pyarray(py)
                 .unbind()
         };
-        (arr(self.point), arr(self.normal))
+        (Some(arr(g.point)), Some(arr(g.normal)))
     }
 }
 
-/// The earliest contact of every sphere of a scene (from `first_contacts`), as arrays indexed
-/// by sphere: `time` float32 (`inf` if none), `kind` uint8 (`KIND_NONE`, `KIND_SPHERE`,
-/// `KIND_PLANE`, `KIND_CYLINDER`, `KIND_CONTAINER`), `index` int64 (the other body's index in
-/// its kind, -1 if none), and with `geometry=True` `point` and `normal` float32 `(N, 3)`
-/// (NaN if none; else `None`). Ties: spheres, then planes, cylinders, containers, each by
-/// index.
-#[pyclass(frozen, module = "spheresweep._native")]
-pub struct FirstContacts {
-    /// Time of impact per sphere, `inf` for none.
-    #[pyo3(get)]
-    time: Py<PyArray1<f32>>,
-    /// Kind code of the body touched, 0 for none.
-    #[pyo3(get)]
-    kind: Py<PyArray1<u8>>,
-    /// Index of the body touched within its kind, -1 for none.
-    #[pyo3(get)]
-    index: Py<PyArray1<i64>>,
-    /// Contact points `(N, 3)` (NaN for none), or `None` without geometry.
-    #[pyo3(get)]
-    point: Option<Py<PyArray2<f32>>>,
-    /// Unit normals `(N, 3)` pushing the sphere away (NaN for none), or `None`.
-    #[pyo3(get)]
-    normal: Option<Py<PyArray2<f32>>>,
-    len: usize,
-}
-
-#[pymethods]
-impl FirstContacts {
-    fn __len__(&self) -> usize {
-        self.len
-    }
-
-    fn __repr__(&self) -> String {
-        format!("FirstContacts(<{} spheres>)", self.len)
-    }
-}
-
-/// Every contact in a window (from `all_contacts`), one row each, sorted by time, then
-/// sphere, then body: `time` float32, `sphere` uint32, `kind` uint8, `index` int64 (for two
-/// spheres `sphere < index`, each pair once), and with `geometry=True` `point` and `normal`
-/// float32 `(K, 3)` (else `None`).
-#[pyclass(frozen, module = "spheresweep._native")]
-pub struct Contacts {
-    /// Time of each contact.
-    #[pyo3(get)]
-    time: Py<PyArray1<f32>>,
-    /// The sphere.
-    #[pyo3(get)]
-    sphere: Py<PyArray1<u32>>,
-    /// Kind code of the other body.
-    #[pyo3(get)]
-    kind: Py<PyArray1<u8>>,
-    /// Index of the other body within its kind.
-    #[pyo3(get)]
-    index: Py<PyArray1<i64>>,
-    /// Contact points `(K, 3)`, or `None` without geometry.
-    #[pyo3(get)]
-    point: Option<Py<PyArray2<f32>>>,
-    /// Unit normals `(K, 3)` pushing `sphere` away, or `None`.
-    #[pyo3(get)]
-    normal: Option<Py<PyArray2<f32>>>,
-    len: usize,
-}
-
-#[pymethods]
-impl Contacts {
-    fn __len__(&self) -> usize {
-        self.len
-    }
-
-    fn __repr__(&self) -> String {
-        format!("Contacts(<{} contacts>)", self.len)
-    }
-}
+/// Bytes of one row of `first_contacts`' columns (time, kind, index; points and normals).
+const FIRST_ROW: usize = 4 + 1 + 8 + 24;
+/// Bytes of one row of `all_contacts`' columns (time, sphere, kind, index; geometry).
+const ALL_ROW: usize = 4 + 4 + 1 + 8 + 24;
 
 /// For every sphere of `scene`, its earliest contact in `[0, t_max]` (see `FirstContacts`).
-/// `t_max` is rounded to float32; an infinite window tests every pair (no broad phase can
-/// cull it). The GIL is released during the query.
+/// `t_max` is rounded to float32. An infinite window (the default) tests every pair, n (n-1)/2
+/// of them, and holds them all: `MemoryError` (with the estimate) before anything is allocated
+/// when the query would not fit. The GIL is released during the query.
 #[pyfunction]
-#[pyo3(signature = (scene, *, t_max = f64::INFINITY, accuracy = "stable", geometry = false))]
+#[pyo3(signature = (scene, *, t_max = None, accuracy = None, geometry = None),
+       text_signature = "(scene, *, t_max=math.inf, accuracy='stable', geometry=False)")]
 pub fn first_contacts(
     py: Python<'_>,
-    scene: PyRef<'_, Scene>,
-    t_max: f64,
-    accuracy: &str,
-    geometry: bool,
+    scene: &Bound<'_, PyAny>,
+    t_max: Option<&Bound<'_, PyAny>>,
+    accuracy: Option<&Bound<'_, PyAny>>,
+    geometry: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<FirstContacts> {
-    let opts = options(t_max, accuracy)?.with_geometry(geometry);
+    let scene = instance::<Scene>(scene, "scene", "Scene")?;
+    let opts = args::options(t_max, accuracy, geometry)?;
     let scene = &scene.scene;
-    let (time, kind, index, geo) = py.detach(|| {
+    check_query("first_contacts", scene, opts, false, FIRST_ROW)?;
+    let n = scene.spheres.len();
+    let mut time = memory::filled(n, f32::INFINITY, "time")?;
+    let mut kind = memory::filled(n, KIND_NONE, "kind")?;
+    let mut index = memory::filled(n, -1i64, "index")?;
+    let mut geo = opts
+        .geometry()
+        .then(|| GeometryColumns::new(n))
+        .transpose()?;
+    py.detach(|| {
         let hits = query::first_contacts(scene, opts);
-        let n = hits.len();
-        let (mut time, mut kind, mut index) =
-            (vec![f32::INFINITY; n], vec![KIND_NONE; n], vec![-1i64; n]);
-        let mut geo = geometry.then(|| GeometryColumns::new(n));
         for (i, hit) in hits.iter().enumerate() {
             if let Some(hit) = hit {
                 time[i] = hit.time;
@@ -298,59 +270,60 @@ pub fn first_contacts(
                 }
             }
         }
-        (time, kind, index, geo)
     });
-    let len = time.len();
-    let (point, normal) = match geo.map(|g| g.into_arrays(py)) {
-        Some((p, n)) => (Some(p), Some(n)),
-        None => (None, None),
-    };
+    let (point, normal) = GeometryColumns::into_arrays(geo, py);
     Ok(FirstContacts {
         time: time.into_pyarray(py).unbind(),
         kind: kind.into_pyarray(py).unbind(),
         index: index.into_pyarray(py).unbind(),
         point,
         normal,
-        len,
     })
 }
 
 /// Every contact in `[0, t_max]` (see `Contacts`): each sphere pair once, and every sphere
-/// with every static shape it touches. `t_max` is required; an infinite window tests every
-/// pair. The GIL is released during the query.
+/// with every static shape it touches. `t_max` is required; the candidate pairs (all of them
+/// for an infinite window) and the contacts are held at once: `MemoryError` (with the
+/// estimate) before anything is allocated when they would not fit. The GIL is released
+/// during the query.
 #[pyfunction]
-#[pyo3(signature = (scene, *, t_max, accuracy = "stable", geometry = false))]
+#[pyo3(signature = (scene, *, t_max, accuracy = None, geometry = None),
+       text_signature = "(scene, *, t_max, accuracy='stable', geometry=False)")]
 pub fn all_contacts(
     py: Python<'_>,
-    scene: PyRef<'_, Scene>,
-    t_max: f64,
-    accuracy: &str,
-    geometry: bool,
+    scene: &Bound<'_, PyAny>,
+    t_max: &Bound<'_, PyAny>,
+    accuracy: Option<&Bound<'_, PyAny>>,
+    geometry: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Contacts> {
-    let opts = options(t_max, accuracy)?.with_geometry(geometry);
+    let scene = instance::<Scene>(scene, "scene", "Scene")?;
+    if t_max.is_none() {
+        return Err(args::wrong_type("t_max", "a real number", t_max));
+    }
+    let opts = args::options(Some(t_max), accuracy, geometry)?;
     let scene = &scene.scene;
-    let (time, sphere, kind, index, geo) = py.detach(|| {
-        let events = query::all_contacts(scene, opts);
-        let time: Vec<f32> = events.iter().map(|e| e.time).collect();
-        let sphere: Vec<u32> = events.iter().map(|e| e.sphere).collect();
-        let kind: Vec<u8> = events.iter().map(|e| kind_code(e.other.kind)).collect();
-        let index: Vec<i64> = events.iter().map(|e| i64::from(e.other.index)).collect();
-        let geo = geometry.then(|| {
-            let mut g = GeometryColumns::new(events.len());
-            for (k, e) in events.iter().enumerate() {
-                if let Some(c) = &e.geometry {
-                    g.set(k, c);
-                }
-            }
-            g
-        });
-        (time, sphere, kind, index, geo)
-    });
-    let len = time.len();
-    let (point, normal) = match geo.map(|g| g.into_arrays(py)) {
-        Some((p, n)) => (Some(p), Some(n)),
-        None => (None, None),
-    };
+    check_query("all_contacts", scene, opts, true, ALL_ROW)?;
+    let events = py.detach(|| query::all_contacts(scene, opts));
+    let k = events.len();
+    let mut time = memory::with_capacity(k, "time")?;
+    let mut sphere = memory::with_capacity(k, "sphere")?;
+    let mut kind = memory::with_capacity(k, "kind")?;
+    let mut index = memory::with_capacity(k, "index")?;
+    let mut geo = opts
+        .geometry()
+        .then(|| GeometryColumns::new(k))
+        .transpose()?;
+    for (row, e) in events.iter().enumerate() {
+        time.push(e.time);
+        sphere.push(e.sphere);
+        kind.push(kind_code(e.other.kind));
+        index.push(i64::from(e.other.index));
+        if let (Some(g), Some(c)) = (geo.as_mut(), e.geometry.as_ref()) {
+            g.set(row, c);
+        }
+    }
+    drop(events);
+    let (point, normal) = GeometryColumns::into_arrays(geo, py);
     Ok(Contacts {
         time: time.into_pyarray(py).unbind(),
         sphere: sphere.into_pyarray(py).unbind(),
@@ -358,6 +331,5 @@ pub fn all_contacts(
         index: index.into_pyarray(py).unbind(),
         point,
         normal,
-        len,
     })
 }

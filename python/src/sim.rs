@@ -1,21 +1,42 @@
 //! The event-driven simulation: built from a scene file, a periodic gas, or spheres and shapes
-//! given as arrays; advanced with the GIL released; state and events out as NumPy arrays.
+//! given as arrays; advanced with the GIL released, interruptible (Ctrl-C) and with progress;
+//! state and events out as NumPy arrays; pickled through its checkpoint.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict};
+use pyo3::types::{PyBytes, PyDict, PyTuple};
 use spheresweep::io::scene_file::{SceneFile, SceneFileError};
-use spheresweep::sim::{self, Boundary, Fixed, Response, SphereState, World, generate};
+use spheresweep::sim::{self, Boundary, Fixed, SphereState, World, generate};
 
+use crate::args::{self, count, flag, optional, real, show, uint64};
 use crate::arrays::{Expect, floats, row3};
-use crate::batch::{AnyStatic, any_static, value_error};
-use crate::scene::{KIND_NONE, kind_code};
+use crate::batch::value_error;
+use crate::effects::{material_index, material_pair, scene_response};
+use crate::memory;
+use crate::results::{KIND_NONE, kind_code, put_column};
+use crate::scene::shape_items;
+use crate::shapes::{AnyStatic, Takes};
+
+/// How often at most `advance_to` calls its `progress` callback.
+const PROGRESS_EVERY: Duration = Duration::from_millis(100);
+
+/// What a simulation was built from: what pickling rebuilds it from (then restores the
+/// checkpoint).
+enum Origin {
+    /// A scene file's text (JSON or TOML).
+    SceneFile { text: String, json: bool },
+    /// `periodic_gas`'s arguments.
+    Gas { args: Py<PyTuple> },
+    /// `from_spheres`' keywords (its arrays are the world's spheres at the start).
+    Spheres { kwargs: Py<PyDict> },
+}
 
 /// A running event-driven simulation (positions, velocities and times in float64), every
 /// collision processed in exact time order. Build one with `Simulation.from_scene_file`,
@@ -28,15 +49,24 @@ pub struct Simulation {
     world: World,
     /// The scene file's end time, when built from one.
     t_end: Option<f64>,
+    origin: Origin,
+}
+
+/// Bytes a simulation of `n` spheres holds, with the two copies of its world (the one built
+/// and the one kept for `restore`).
+fn simulation_bytes(n: usize) -> usize {
+    sim::Simulation::estimated_bytes(n)
+        .saturating_add(n.saturating_mul(2 * std::mem::size_of::<SphereState>()))
 }
 
 impl Simulation {
-    fn new(world: World, t_end: Option<f64>) -> PyResult<Self> {
+    fn new(world: World, t_end: Option<f64>, origin: Origin) -> PyResult<Self> {
         let sim = sim::Simulation::new(world.clone()).map_err(value_error)?;
         Ok(Self {
             sim: Mutex::new(sim),
             world,
             t_end,
+            origin,
         })
     }
 
@@ -56,16 +86,36 @@ impl Simulation {
         }
     }
 
+    /// The spheres now, `MemoryError` if their copy does not fit.
+    fn spheres(&self, py: Python<'_>) -> PyResult<Vec<SphereState>> {
+        let sim = self.lock(py);
+        let n = self.world.spheres.len();
+        memory::check(
+            &format!("Simulation: a copy of {n} spheres"),
+            n.saturating_mul(std::mem::size_of::<SphereState>() + 24),
+        )?;
+        Ok(sim.spheres())
+    }
+
     fn rows<'py>(
         &self,
         py: Python<'py>,
         f: impl Fn(&SphereState) -> DVec3,
-    ) -> Bound<'py, PyArray2<f64>> {
-        let spheres = self.lock(py).spheres();
-        let data: Vec<f64> = spheres.iter().flat_map(|s| f(s).to_array()).collect();
-        Array2::from_shape_vec((spheres.len(), 3), data)
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let spheres = self.spheres(py)?;
+        let mut data = memory::with_capacity(3 * spheres.len(), "Simulation rows")?;
+        data.extend(spheres.iter().flat_map(|s| f(s).to_array()));
+        Ok(Array2::from_shape_vec((spheres.len(), 3), data)
             .expect("3 per sphere")
-            .into_pyarray(py)
+            .into_pyarray(py))
+    }
+
+    /// The periodic box's lengths, if periodic.
+    fn periodic_box(&self) -> Option<DVec3> {
+        match self.world.boundary {
+            Boundary::Periodic { size } => Some(size),
+            _ => None,
+        }
     }
 }
 
@@ -76,116 +126,191 @@ fn scene_file_error(e: SceneFileError) -> PyErr {
     }
 }
 
-/// The response of a coefficient of restitution in `[0, 1]`: elastic at 1, inelastic below.
-fn response_of(restitution: f64) -> PyResult<Response> {
-    if !(0.0..=1.0).contains(&restitution) {
-        return Err(PyValueError::new_err(format!(
-            "restitution: {restitution} is not in [0, 1]"
-        )));
+/// The simulation of a scene file's text (the world, the end time).
+fn scene_file_world(file: &SceneFile) -> PyResult<(World, f64)> {
+    if let Some(n) = file.sphere_count() {
+        memory::check(&format!("scene file: {n} spheres"), simulation_bytes(n))?;
     }
-    Ok(if restitution == 1.0 {
-        Response::Elastic
-    } else {
-        Response::Inelastic { restitution }
+    let (world, run) = file.build().map_err(scene_file_error)?;
+    Ok((world, run.t_end))
+}
+
+/// The world of `from_spheres`' arguments (see there).
+#[allow(clippy::too_many_arguments)]
+fn spheres_world(
+    centres: &Bound<'_, PyAny>,
+    velocities: &Bound<'_, PyAny>,
+    radii: &Bound<'_, PyAny>,
+    masses: Option<&Bound<'_, PyAny>>,
+    materials: Option<&Bound<'_, PyAny>>,
+) -> PyResult<World> {
+    let c = floats::<f64>(centres, "centres", Expect::Rows3)?;
+    let v = floats::<f64>(velocities, "velocities", Expect::Rows3)?;
+    let r = floats::<f64>(radii, "radii", Expect::Column)?;
+    let m = optional(masses)
+        .map(|m| floats::<f64>(m, "masses", Expect::Column))
+        .transpose()?;
+    let n = c.as_array().shape()[0];
+    memory::check(&format!("Simulation: {n} spheres"), simulation_bytes(n))?;
+    let (c, v, r) = (c.as_array(), v.as_array(), r.as_array());
+    let m = m.as_ref().map(|m| m.as_array());
+    let material: Vec<u16> = match optional(materials) {
+        None => memory::filled(n, 0, "materials")?,
+        Some(list) => list
+            .try_iter()
+            .map_err(|_| args::wrong_type("materials", "a sequence of integers", list))?
+            .enumerate()
+            .map(|(i, x)| material_index(&x?, &format!("materials[{i}]")))
+            .collect::<PyResult<_>>()?,
+    };
+    for (name, len) in [("velocities", v.shape()[0]), ("radii", r.shape()[0])]
+        .into_iter()
+        .chain(m.as_ref().map(|m| ("masses", m.shape()[0])))
+        .chain(optional(materials).map(|_| ("materials", material.len())))
+    {
+        if len != n {
+            return Err(PyValueError::new_err(format!(
+                "{name}: {len} entries, expected {n} (one per sphere, as centres)"
+            )));
+        }
+    }
+    let mut spheres = memory::with_capacity(n, "Simulation spheres")?;
+    spheres.extend((0..n).map(|i| SphereState {
+        centre: DVec3::from_array(row3(&c, i)),
+        velocity: DVec3::from_array(row3(&v, i)),
+        radius: r[[i]],
+        mass: m.as_ref().map_or(1.0, |m| m[[i]]),
+        material: material[i],
+    }));
+    Ok(World {
+        spheres,
+        ..World::default()
     })
 }
 
-/// The scene's response, as a scene file's `[effects]`: `response` by name (`"none"`,
-/// `"elastic"`, `"inelastic"` with `restitution` required, `"sticky"`), a `restitution` only
-/// with `"inelastic"`; or, without `response`, the one `restitution` implies (elastic at 1 or
-/// when absent, inelastic below).
-fn scene_response(response: Option<&str>, restitution: Option<f64>) -> PyResult<Response> {
-    match (response, restitution) {
-        (None, None) | (Some("elastic"), None) => Ok(Response::Elastic),
-        (None, Some(e)) => response_of(e),
-        (Some("inelastic"), Some(e)) => {
-            response_of(e)?;
-            Ok(Response::Inelastic { restitution: e })
-        }
-        (Some("inelastic"), None) => Err(PyValueError::new_err(
-            "restitution: required with response \"inelastic\"",
-        )),
-        (Some("none"), None) => Ok(Response::None),
-        (Some("sticky"), None) => Ok(Response::Sticky),
-        (Some(name @ ("none" | "elastic" | "sticky")), Some(e)) => {
-            Err(PyValueError::new_err(format!(
-                "restitution: {e} given with response {name:?} (it applies to \"inelastic\" only)"
-            )))
-        }
-        (Some(other), _) => Err(PyValueError::new_err(format!(
-            "response: {other:?} is not one of \"none\", \"elastic\", \"inelastic\", \"sticky\""
-        ))),
-    }
-}
-
-/// A material index from Python: an integer in `[0, MAX_MATERIALS)`, or an error naming
-/// `what`.
-fn material_index(value: &Bound<'_, PyAny>, what: &str) -> PyResult<u16> {
-    let i: i64 = value.extract().map_err(|_| {
-        pyo3::exceptions::PyTypeError::new_err(format!("{what}: a material is an integer"))
-    })?;
-    match u16::try_from(i) {
-        Ok(m) if usize::from(m) < sim::MAX_MATERIALS => Ok(m),
-        _ => Err(PyValueError::new_err(format!(
-            "{what}: material {i} is not in [0, {}]",
-            sim::MAX_MATERIALS - 1
-        ))),
-    }
-}
-
-/// One entry of `pairs`: `(a, b, response)` with `response` a restitution in `[0, 1]` or
-/// `"elastic"` / `"sticky"`.
-fn material_pair(item: &Bound<'_, PyAny>, what: &str) -> PyResult<sim::MaterialPair> {
-    let parts: Vec<Bound<'_, PyAny>> = item
-        .try_iter()
-        .and_then(|it| it.collect())
-        .ok()
-        .filter(|p: &Vec<_>| p.len() == 3)
-        .ok_or_else(|| {
-            pyo3::exceptions::PyTypeError::new_err(format!(
-                "{what}: expected a tuple (a, b, response)"
-            ))
-        })?;
-    let a = material_index(&parts[0], &format!("{what}.a"))?;
-    let b = material_index(&parts[1], &format!("{what}.b"))?;
-    let response = if let Ok(name) = parts[2].extract::<String>() {
-        match name.as_str() {
-            "elastic" => Response::Elastic,
-            "sticky" => Response::Sticky,
-            _ => {
-                return Err(PyValueError::new_err(format!(
-                    "{what}.response: {name:?} is not a restitution, \"elastic\" or \"sticky\""
-                )));
-            }
-        }
-    } else {
-        let e: f64 = parts[2].extract().map_err(|_| {
-            pyo3::exceptions::PyTypeError::new_err(format!(
-                "{what}.response: expected a restitution or \"elastic\" / \"sticky\""
-            ))
-        })?;
-        response_of(e).map_err(|_| {
-            PyValueError::new_err(format!("{what}.response: restitution {e} is not in [0, 1]"))
-        })?
+/// The world's shapes from `planes=`, `cylinders=`, `containers=`: each item a shape of that
+/// kind or a `(shape, material)` tuple. Returns the items as given (for pickling).
+fn add_shapes<'py>(
+    py: Python<'py>,
+    world: &mut World,
+    items: Option<&Bound<'py, PyAny>>,
+    name: &str,
+    takes: Takes,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let Some(items) = optional(items) else {
+        return Ok(PyTuple::empty(py));
     };
-    Ok(sim::MaterialPair { a, b, response })
+    let list: Vec<Bound<'py, PyAny>> = items
+        .try_iter()
+        .map_err(|_| args::wrong_type(name, "a sequence of shapes", items))?
+        .collect::<PyResult<_>>()?;
+    for (k, item) in list.iter().enumerate() {
+        let label = format!("{name}[{k}]");
+        // A shape, or a (shape, material) tuple.
+        let (shape, material) = match item.cast::<PyTuple>() {
+            Ok(t) if t.len() == 2 => (
+                t.get_item(0)?,
+                material_index(&t.get_item(1)?, &format!("{label}.material"))?,
+            ),
+            _ => (item.clone(), 0),
+        };
+        let one = PyTuple::new(py, [shape])?;
+        let (_, shapes) = shape_items(py, Some(one.as_any()), &label, takes)
+            .map_err(|e| rename_item(py, e, &format!("{label}[0]"), &label))?;
+        match shapes[0] {
+            AnyStatic::Plane(shape) => world.planes.push(Fixed { shape, material }),
+            AnyStatic::Cylinder(shape) => world.cylinders.push(Fixed { shape, material }),
+            AnyStatic::Container(shape) => world.containers.push(Fixed { shape, material }),
+        }
+    }
+    PyTuple::new(py, list)
+}
+
+/// `e` with the item's label `from` replaced by `to` (a one-item check names its item).
+fn rename_item(py: Python<'_>, e: PyErr, from: &str, to: &str) -> PyErr {
+    let message = e.value(py).to_string().replacen(from, to, 1);
+    if e.is_instance_of::<pyo3::exceptions::PyTypeError>(py) {
+        pyo3::exceptions::PyTypeError::new_err(message)
+    } else {
+        PyValueError::new_err(message)
+    }
+}
+
+/// Materials are numbered: as many as the largest index used (names "0", "1", ...); none
+/// listed when every index is 0, as in every other world of one material (so that checkpoints
+/// pass between them).
+fn name_materials(world: &mut World) {
+    let used = world
+        .spheres
+        .iter()
+        .map(|s| s.material)
+        .chain(world.planes.iter().map(|p| p.material))
+        .chain(world.cylinders.iter().map(|c| c.material))
+        .chain(world.containers.iter().map(|c| c.material))
+        .chain(world.effects.pairs.iter().flat_map(|p| [p.a, p.b]))
+        .max()
+        .unwrap_or(0);
+    if used > 0 {
+        world.materials = (0..=used).map(|i| i.to_string()).collect();
+    }
+}
+
+/// The `keep_going` of `advance_to`: every 4096 events it takes the GIL, runs the signal
+/// handlers (Ctrl-C raises `KeyboardInterrupt` there) and calls `progress(time)` at most every
+/// [`PROGRESS_EVERY`]; the first error stops the run, between two events.
+struct Watch<'a> {
+    progress: Option<&'a Py<PyAny>>,
+    last: Instant,
+    error: Option<PyErr>,
+}
+
+impl Watch<'_> {
+    fn keep_going(&mut self, now: f64) -> bool {
+        Python::attach(|py| {
+            let result = py.check_signals().and_then(|()| match self.progress {
+                Some(p) if self.last.elapsed() >= PROGRESS_EVERY => {
+                    self.last = Instant::now();
+                    p.call1(py, (now,)).map(drop)
+                }
+                _ => Ok(()),
+            });
+            match result {
+                Ok(()) => true,
+                Err(e) => {
+                    self.error = Some(e);
+                    false
+                }
+            }
+        })
+    }
 }
 
 #[pymethods]
 impl Simulation {
     /// A simulation of the scene file at `path` (TOML, or JSON when the name ends in
     /// `.json`), as `spheresweep run` reads it. `OSError` if it cannot be read; `ValueError`
-    /// with the file, line, item and field for anything the file gets wrong.
+    /// with the file, line, item and field for anything the file gets wrong; `MemoryError`
+    /// for more spheres than memory holds.
     #[staticmethod]
     fn from_scene_file(path: PathBuf) -> PyResult<Self> {
         let file = SceneFile::from_path(&path).map_err(scene_file_error)?;
-        let (world, run) = file.build().map_err(scene_file_error)?;
+        let text = std::fs::read_to_string(&path).map_err(|source| {
+            scene_file_error(SceneFileError::Read {
+                path: path.clone(),
+                source,
+            })
+        })?;
+        let json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let (world, t_end) = scene_file_world(&file)?;
         let sim =
             sim::Simulation::new(world.clone()).map_err(|e| scene_file_error(file.locate(e)))?;
         Ok(Self {
             sim: Mutex::new(sim),
             world,
-            t_end: Some(run.t_end),
+            t_end: Some(t_end),
+            origin: Origin::SceneFile { text, json },
         })
     }
 
@@ -194,176 +319,207 @@ impl Simulation {
     /// temperature `kT` (zero total momentum), elastic collisions. `record_events=True` keeps
     /// every collision for `take_events`.
     #[staticmethod]
-    #[pyo3(signature = (n, phi, radius = 0.5, kT = 1.0, seed = 0, record_events = false))]
+    #[pyo3(signature = (n, phi, radius = None, kT = None, seed = None, record_events = None),
+           text_signature = "(n, phi, radius=0.5, kT=1.0, seed=0, record_events=False)")]
     #[allow(non_snake_case)]
     fn periodic_gas(
-        n: usize,
-        phi: f64,
-        radius: f64,
-        kT: f64,
-        seed: u64,
-        record_events: bool,
+        py: Python<'_>,
+        n: &Bound<'_, PyAny>,
+        phi: &Bound<'_, PyAny>,
+        radius: Option<&Bound<'_, PyAny>>,
+        kT: Option<&Bound<'_, PyAny>>,
+        seed: Option<&Bound<'_, PyAny>>,
+        record_events: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let n = count(n, "n")?;
+        let phi = real(phi, "phi")?;
+        let radius = optional(radius).map_or(Ok(0.5), |r| real(r, "radius"))?;
+        let kt = optional(kT).map_or(Ok(1.0), |k| real(k, "kT"))?;
+        let seed = optional(seed).map_or(Ok(0), |s| uint64(s, "seed"))?;
+        let record = optional(record_events).map_or(Ok(false), |r| flag(r, "record_events"))?;
+        memory::check(&format!("periodic_gas: {n} spheres"), simulation_bytes(n))?;
         let mut world = World {
             boundary: Boundary::Periodic { size: DVec3::ZERO },
             ..World::default()
         };
-        world.effects.record_events = record_events;
-        generate::periodic_gas(&mut world, n, phi, radius, kT, seed).map_err(value_error)?;
-        Self::new(world, None)
+        world.effects.record_events = record;
+        generate::periodic_gas(&mut world, n, phi, radius, kt, seed).map_err(value_error)?;
+        let args = PyTuple::new(
+            py,
+            [
+                n.into_pyobject(py)?.into_any(),
+                phi.into_pyobject(py)?.into_any(),
+                radius.into_pyobject(py)?.into_any(),
+                kt.into_pyobject(py)?.into_any(),
+                seed.into_pyobject(py)?.into_any(),
+                pyo3::types::PyBool::new(py, record).to_owned().into_any(),
+            ],
+        )?;
+        Self::new(
+            world,
+            None,
+            Origin::Gas {
+                args: args.unbind(),
+            },
+        )
     }
 
-    /// A simulation of spheres given as arrays (float64; other floating dtypes converted):
+    /// A simulation of spheres given as arrays (float64; other real dtypes converted):
     /// `centres` and `velocities` `(N, 3)`, `radii` and optional `masses` `(N,)` (default 1),
-    /// among static `planes`, `cylinders` and `containers`. `periodic_box` (three lengths)
-    /// makes the box `[0, L)` periodic; otherwise space is open. Every collision has
-    /// coefficient of restitution `restitution` (absent or 1: elastic), or does what `response`
-    /// names (`"none"`, `"elastic"`, `"inelastic"` with `restitution`, `"sticky"`), as a scene
-    /// file's `[effects]` (docs/scene-format.md); `tc` is the TC model's duration (0: off).
-    /// Materials are indices below 1024 (`MAX_MATERIALS`).
-    /// `materials` gives each sphere a material index (default 0); a shape may be given as a
-    /// `(shape, material)` tuple; `pairs` lists `(a, b, response)` overrides for pairs of
-    /// materials, `response` a restitution or `"elastic"` / `"sticky"`. `record_events` keeps
-    /// each collision for `take_events`, with its contact point and normal if `geometry`.
+    /// among static `planes`, `cylinders` and `containers` (each a sequence of that kind).
+    /// `periodic_box` (three lengths) makes the box `[0, L)` periodic; otherwise space is
+    /// open. Every collision has coefficient of restitution `restitution` (absent or 1:
+    /// elastic), or does what `response` names (`"none"`, `"elastic"`, `"inelastic"` with
+    /// `restitution`, `"sticky"`), as a scene file's `[effects]` (docs/scene-format.md); `tc`
+    /// is the TC model's duration (0: off). Materials are indices below 1024
+    /// (`MAX_MATERIALS`). `materials` gives each sphere a material index (default 0); a shape
+    /// may be given as a `(shape, material)` tuple; `pairs` lists `(a, b, response)`
+    /// overrides for pairs of materials, `response` a restitution or `"elastic"` /
+    /// `"sticky"`. `record_events` keeps each collision for `take_events`, with its contact
+    /// point and normal if `geometry`.
     ///
     /// `ValueError` for invalid spheres, shapes, materials or pairs, overlaps at the start, a
-    /// sphere through a shape, or a box too small (the message names the item).
+    /// sphere through a shape, or a box too small (the message names the item); `TypeError`
+    /// for an argument of the wrong type or a shape of another kind.
     #[staticmethod]
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
         cylinders = None, containers = None, periodic_box = None, restitution = None,
-        response = None, tc = 0.0, materials = None, pairs = None, record_events = false,
-        geometry = false))]
-    fn from_spheres(
-        centres: &Bound<'_, PyAny>,
-        velocities: &Bound<'_, PyAny>,
-        radii: &Bound<'_, PyAny>,
-        masses: Option<&Bound<'_, PyAny>>,
-        planes: Option<&Bound<'_, PyAny>>,
-        cylinders: Option<&Bound<'_, PyAny>>,
-        containers: Option<&Bound<'_, PyAny>>,
-        periodic_box: Option<&Bound<'_, PyAny>>,
-        restitution: Option<f64>,
-        response: Option<&str>,
-        tc: f64,
-        materials: Option<&Bound<'_, PyAny>>,
-        pairs: Option<&Bound<'_, PyAny>>,
-        record_events: bool,
-        geometry: bool,
+        response = None, tc = None, materials = None, pairs = None, record_events = None,
+        geometry = None),
+        text_signature = "(centres, velocities, radii, masses=None, *, planes=None, cylinders=None, containers=None, periodic_box=None, restitution=None, response=None, tc=0.0, materials=None, pairs=None, record_events=False, geometry=False)")]
+    fn from_spheres<'py>(
+        py: Python<'py>,
+        centres: &Bound<'py, PyAny>,
+        velocities: &Bound<'py, PyAny>,
+        radii: &Bound<'py, PyAny>,
+        masses: Option<&Bound<'py, PyAny>>,
+        planes: Option<&Bound<'py, PyAny>>,
+        cylinders: Option<&Bound<'py, PyAny>>,
+        containers: Option<&Bound<'py, PyAny>>,
+        periodic_box: Option<&Bound<'py, PyAny>>,
+        restitution: Option<&Bound<'py, PyAny>>,
+        response: Option<&Bound<'py, PyAny>>,
+        tc: Option<&Bound<'py, PyAny>>,
+        materials: Option<&Bound<'py, PyAny>>,
+        pairs: Option<&Bound<'py, PyAny>>,
+        record_events: Option<&Bound<'py, PyAny>>,
+        geometry: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Self> {
-        let c = floats::<f64>(centres, "centres", Expect::Rows3)?;
-        let v = floats::<f64>(velocities, "velocities", Expect::Rows3)?;
-        let r = floats::<f64>(radii, "radii", Expect::Column)?;
-        let m = masses
-            .map(|m| floats::<f64>(m, "masses", Expect::Column))
-            .transpose()?;
-        let n = c.as_array().shape()[0];
-        let (c, v, r) = (c.as_array(), v.as_array(), r.as_array());
-        let m = m.as_ref().map(|m| m.as_array());
-        let material: Vec<u16> = match materials {
-            None => vec![0; n],
-            Some(list) => list
-                .try_iter()?
-                .enumerate()
-                .map(|(i, x)| material_index(&x?, &format!("materials[{i}]")))
-                .collect::<PyResult<_>>()?,
-        };
-        for (name, len) in [("velocities", v.shape()[0]), ("radii", r.shape()[0])]
-            .into_iter()
-            .chain(m.as_ref().map(|m| ("masses", m.shape()[0])))
-            .chain(materials.map(|_| ("materials", material.len())))
-        {
-            if len != n {
-                return Err(PyValueError::new_err(format!(
-                    "{name}: {len} entries, expected {n} (one per sphere, as centres)"
-                )));
-            }
-        }
-        let spheres = (0..n)
-            .map(|i| SphereState {
-                centre: DVec3::from_array(row3(&c, i)),
-                velocity: DVec3::from_array(row3(&v, i)),
-                radius: r[[i]],
-                mass: m.as_ref().map_or(1.0, |m| m[[i]]),
-                material: material[i],
-            })
-            .collect();
-        let mut world = World {
-            spheres,
-            ..World::default()
-        };
-        for (items, name) in [
-            (planes, "planes"),
-            (cylinders, "cylinders"),
-            (containers, "containers"),
+        let mut world = spheres_world(centres, velocities, radii, masses, materials)?;
+        let kwargs = PyDict::new(py);
+        for (items, name, takes) in [
+            (planes, "planes", Takes::Planes),
+            (cylinders, "cylinders", Takes::Cylinders),
+            (containers, "containers", Takes::Containers),
         ] {
-            let Some(items) = items else { continue };
-            for (k, item) in items.try_iter()?.enumerate() {
-                let label = format!("{name}[{k}]");
-                let item = item?;
-                // A shape, or a (shape, material) tuple.
-                let (shape, material) = match item.cast::<pyo3::types::PyTuple>() {
-                    Ok(t) if t.len() == 2 => (
-                        t.get_item(0)?,
-                        material_index(&t.get_item(1)?, &format!("{label}.material"))?,
-                    ),
-                    _ => (item, 0),
-                };
-                match any_static(&shape, &label)? {
-                    AnyStatic::Plane(shape) => world.planes.push(Fixed { shape, material }),
-                    AnyStatic::Cylinder(shape) => world.cylinders.push(Fixed { shape, material }),
-                    AnyStatic::Container(shape) => world.containers.push(Fixed { shape, material }),
-                }
-            }
+            kwargs.set_item(name, add_shapes(py, &mut world, items, name, takes)?)?;
         }
-        if let Some(pairs) = pairs {
-            for (k, item) in pairs.try_iter()?.enumerate() {
+        let mut given_pairs = Vec::new();
+        if let Some(pairs) = optional(pairs) {
+            let iter = pairs
+                .try_iter()
+                .map_err(|_| args::wrong_type("pairs", "a sequence of (a, b, response)", pairs))?;
+            for (k, item) in iter.enumerate() {
+                let item = item?;
                 world
                     .effects
                     .pairs
-                    .push(material_pair(&item?, &format!("pairs[{k}]"))?);
+                    .push(material_pair(&item, &format!("pairs[{k}]"))?);
+                given_pairs.push(item);
             }
         }
-        // Materials are numbered: as many as the largest index used (names "0", "1", ...);
-        // none listed when every index is 0, as in every other world of one material (so that
-        // checkpoints pass between them).
-        let used = world
-            .spheres
-            .iter()
-            .map(|s| s.material)
-            .chain(world.planes.iter().map(|p| p.material))
-            .chain(world.cylinders.iter().map(|c| c.material))
-            .chain(world.containers.iter().map(|c| c.material))
-            .chain(world.effects.pairs.iter().flat_map(|p| [p.a, p.b]))
-            .max()
-            .unwrap_or(0);
-        if used > 0 {
-            world.materials = (0..=used).map(|i| i.to_string()).collect();
-        }
-        if let Some(b) = periodic_box {
+        kwargs.set_item("pairs", PyTuple::new(py, given_pairs)?)?;
+        name_materials(&mut world);
+        if let Some(b) = optional(periodic_box) {
             let size = crate::arrays::vector3::<f64>(b, "periodic_box")?;
             world.boundary = Boundary::Periodic {
                 size: DVec3::from_array(size),
             };
+            kwargs.set_item("periodic_box", size.to_vec())?;
         }
-        world.effects.response = scene_response(response, restitution)?;
+        world.effects.response = scene_response(optional(response), optional(restitution))?;
+        let tc = optional(tc).map_or(Ok(0.0), |t| real(t, "tc"))?;
         if !(tc.is_finite() && tc >= 0.0) {
             return Err(PyValueError::new_err(format!(
-                "tc: {tc} is not a finite duration >= 0"
+                "tc: {} is not a finite duration >= 0",
+                show(tc)
             )));
         }
         world.effects.tc = tc;
-        world.effects.record_events = record_events;
-        world.effects.geometry = geometry;
-        Self::new(world, None)
+        world.effects.record_events =
+            optional(record_events).map_or(Ok(false), |r| flag(r, "record_events"))?;
+        world.effects.geometry = optional(geometry).map_or(Ok(false), |g| flag(g, "geometry"))?;
+        for (name, value) in [("restitution", restitution), ("response", response)] {
+            kwargs.set_item(name, optional(value))?;
+        }
+        kwargs.set_item("tc", tc)?;
+        kwargs.set_item("record_events", world.effects.record_events)?;
+        kwargs.set_item("geometry", world.effects.geometry)?;
+        let materials: Vec<u16> = world.spheres.iter().map(|s| s.material).collect();
+        kwargs.set_item("materials", materials.into_pyarray(py))?;
+        Self::new(
+            world,
+            None,
+            Origin::Spheres {
+                kwargs: kwargs.unbind(),
+            },
+        )
     }
 
     /// Processes every collision up to time `t` (inclusive) and moves the clock to `t`, with
-    /// the GIL released. `ValueError` if `t` is not finite or before `time`.
-    fn advance_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
+    /// the GIL released. Every 4096 events it checks for signals: Ctrl-C stops it between two
+    /// events and raises `KeyboardInterrupt`, the simulation left usable at the time it
+    /// reached (`time`). `progress`, if given, is called as `progress(time)` at most ten times
+    /// a second while it runs, and once with `t` at the end (an exception from it stops the
+    /// run likewise). `ValueError` if `t` is not finite or before `time`.
+    #[pyo3(signature = (t, *, progress = None))]
+    fn advance_to(
+        &self,
+        py: Python<'_>,
+        t: &Bound<'_, PyAny>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let t = real(t, "t")?;
+        let progress = optional(progress).map(|p| p.clone().unbind());
+        if let Some(p) = &progress
+            && !p.bind(py).is_callable()
+        {
+            return Err(args::wrong_type("progress", "a callable", p.bind(py)));
+        }
         let mut guard = self.lock(py);
+        let now = guard.time();
+        if !t.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "t: cannot advance to t = {}: the end time must be finite (the simulation is at t = {})",
+                show(t),
+                show(now)
+            )));
+        }
+        if t < now {
+            return Err(PyValueError::new_err(format!(
+                "t: cannot advance to t = {}: the simulation is at t = {} (time runs forward only)",
+                show(t),
+                show(now)
+            )));
+        }
         let sim: &mut sim::Simulation = &mut guard;
-        py.detach(move || sim.advance_to(t)).map_err(value_error)
+        let mut watch = Watch {
+            progress: progress.as_ref(),
+            last: Instant::now(),
+            error: None,
+        };
+        let finished = py
+            .detach(|| sim.advance_with(t, &mut |now, _| watch.keep_going(now)))
+            .map_err(value_error)?;
+        if let Some(e) = watch.error {
+            return Err(e);
+        }
+        debug_assert!(finished);
+        if let Some(p) = &progress {
+            p.call1(py, (t,))?;
+        }
+        Ok(())
     }
 
     /// The current time.
@@ -378,35 +534,43 @@ impl Simulation {
         self.t_end
     }
 
+    /// The periodic box's lengths `(Lx, Ly, Lz)`, or `None` in open space.
+    #[getter(r#box)]
+    fn periodic_box_lengths(&self) -> Option<(f64, f64, f64)> {
+        self.periodic_box().map(|b| (b.x, b.y, b.z))
+    }
+
     /// Number of spheres.
-    fn __len__(&self, py: Python<'_>) -> usize {
-        self.lock(py).spheres().len()
+    fn __len__(&self) -> usize {
+        self.world.spheres.len()
     }
 
     /// Centres now, float64 `(N, 3)` (periodic centres wrapped into the box).
     #[getter]
-    fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.rows(py, |s| s.centre)
     }
 
     /// Velocities now, float64 `(N, 3)`.
     #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         self.rows(py, |s| s.velocity)
     }
 
     /// Radii, float64 `(N,)`.
     #[getter]
-    fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let r: Vec<f64> = self.lock(py).spheres().iter().map(|s| s.radius).collect();
-        r.into_pyarray(py)
+    fn radii<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut r = memory::with_capacity(self.world.spheres.len(), "radii")?;
+        r.extend(self.world.spheres.iter().map(|s| s.radius));
+        Ok(r.into_pyarray(py))
     }
 
     /// Masses, float64 `(N,)`.
     #[getter]
-    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let m: Vec<f64> = self.lock(py).spheres().iter().map(|s| s.mass).collect();
-        m.into_pyarray(py)
+    fn masses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut m = memory::with_capacity(self.world.spheres.len(), "masses")?;
+        m.extend(self.world.spheres.iter().map(|s| s.mass));
+        Ok(m.into_pyarray(py))
     }
 
     /// Total kinetic energy `sum(m v^2 / 2)`.
@@ -463,8 +627,10 @@ impl Simulation {
     }
 
     /// The whole dynamic state as bytes (see the Rust `Simulation::checkpoint`).
-    fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.lock(py).checkpoint())
+    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let sim = self.lock(py);
+        memory::check("checkpoint", sim.memory_bytes())?;
+        Ok(PyBytes::new(py, &sim.checkpoint()))
     }
 
     /// Puts the simulation back in the state `checkpoint` saved (time, positions, velocities,
@@ -473,8 +639,13 @@ impl Simulation {
     /// same shapes, boundary and effects (starting positions and velocities may differ: the
     /// checkpoint holds them). `ValueError` saying why otherwise (damaged, truncated, another
     /// world), and the simulation is left as it was.
-    fn restore(&self, py: Python<'_>, data: &[u8]) -> PyResult<()> {
+    fn restore(&self, py: Python<'_>, data: &Bound<'_, PyAny>) -> PyResult<()> {
+        let data = data
+            .cast::<PyBytes>()
+            .map_err(|_| args::wrong_type("data", "bytes", data))?
+            .as_bytes();
         let world = self.world.clone();
+        memory::check("restore", simulation_bytes(world.spheres.len()))?;
         let restored = py
             .detach(move || sim::Simulation::restore(world, data))
             .map_err(value_error)?;
@@ -483,50 +654,150 @@ impl Simulation {
     }
 
     /// The collisions recorded since the last call (empty unless the simulation records
-    /// events), as a dict of arrays one row per event: `time` float64, `sphere` uint32,
-    /// `kind` uint8 (`KIND_*`), `index` int64, `approach`, `restitution`, `energy_lost`
-    /// float64, and `point`, `normal` float64 `(K, 3)` (NaN without geometry).
+    /// events), as a dict of 1-D arrays, one row per event (so `pandas.DataFrame(...)` of it
+    /// is a table): `time` float64, `sphere` uint32, `kind` uint8 (`KIND_*`), `index` int64,
+    /// `approach`, `restitution`, `energy_lost` float64, and `point_x`, `point_y`, `point_z`,
+    /// `normal_x`, `normal_y`, `normal_z` float64 (NaN without geometry).
     fn take_events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let events = self.lock(py).take_events();
         let k = events.len();
         let d = PyDict::new(py);
-        let col_f =
-            |f: fn(&sim::EventRecord) -> f64| -> Vec<f64> { events.iter().map(f).collect() };
-        d.set_item("time", col_f(|e| e.time).into_pyarray(py))?;
-        let sphere: Vec<u32> = events.iter().map(|e| e.sphere).collect();
+        let col_f = |f: fn(&sim::EventRecord) -> f64| -> PyResult<Vec<f64>> {
+            let mut v = memory::with_capacity(k, "events")?;
+            v.extend(events.iter().map(f));
+            Ok(v)
+        };
+        d.set_item("time", col_f(|e| e.time)?.into_pyarray(py))?;
+        let mut sphere = memory::with_capacity(k, "events")?;
+        sphere.extend(events.iter().map(|e| e.sphere));
         d.set_item("sphere", sphere.into_pyarray(py))?;
-        let kind: Vec<u8> = events.iter().map(|e| kind_code(e.other.kind)).collect();
+        let mut kind = memory::with_capacity(k, "events")?;
+        kind.extend(events.iter().map(|e| kind_code(e.other.kind)));
         debug_assert!(kind.iter().all(|&c| c != KIND_NONE));
         d.set_item("kind", kind.into_pyarray(py))?;
-        let index: Vec<i64> = events.iter().map(|e| i64::from(e.other.index)).collect();
+        let mut index = memory::with_capacity(k, "events")?;
+        index.extend(events.iter().map(|e| i64::from(e.other.index)));
         d.set_item("index", index.into_pyarray(py))?;
-        d.set_item("approach", col_f(|e| e.approach).into_pyarray(py))?;
-        d.set_item("restitution", col_f(|e| e.restitution).into_pyarray(py))?;
-        d.set_item("energy_lost", col_f(|e| e.energy_lost).into_pyarray(py))?;
-        let geo = |f: fn(&sim::EventGeometry) -> DVec3| -> Vec<f64> {
-            events
-                .iter()
-                .flat_map(|e| {
-                    e.geometry
-                        .as_ref()
-                        .map_or([f64::NAN; 3], |g| f(g).to_array())
-                })
-                .collect()
+        d.set_item("approach", col_f(|e| e.approach)?.into_pyarray(py))?;
+        d.set_item("restitution", col_f(|e| e.restitution)?.into_pyarray(py))?;
+        d.set_item("energy_lost", col_f(|e| e.energy_lost)?.into_pyarray(py))?;
+        let geo = |f: fn(&sim::EventGeometry) -> DVec3| -> PyResult<Vec<f64>> {
+            let mut v = memory::with_capacity(3 * k, "events")?;
+            v.extend(events.iter().flat_map(|e| {
+                e.geometry
+                    .as_ref()
+                    .map_or([f64::NAN; 3], |g| f(g).to_array())
+            }));
+            Ok(v)
         };
-        for (name, data) in [("point", geo(|g| g.point)), ("normal", geo(|g| g.normal))] {
+        for (name, data) in [("point", geo(|g| g.point)?), ("normal", geo(|g| g.normal)?)] {
             let array = Array2::from_shape_vec((k, 3), data).expect("3 per event");
-            d.set_item(name, array.into_pyarray(py))?;
+            put_column(&d, name, array.into_pyarray(py).as_any())?;
         }
         Ok(d)
+    }
+
+    /// Pickling: how the simulation was built (a scene file's text, `periodic_gas`'s or
+    /// `from_spheres`' arguments) and its checkpoint; unpickled, it is rebuilt so and restored,
+    /// to go on bit for bit as this one.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let (py, me) = (slf.py(), slf.get());
+        let rebuild = slf.get_type().getattr("_unpickle")?;
+        let how = match &me.origin {
+            Origin::SceneFile { text, json } => (
+                "scene_file",
+                (text.as_str(), *json).into_pyobject(py)?.into_any(),
+            ),
+            Origin::Gas { args } => ("periodic_gas", args.bind(py).clone().into_any()),
+            Origin::Spheres { kwargs } => (
+                "from_spheres",
+                (start_arrays(py, &me.world.spheres)?, kwargs.bind(py))
+                    .into_pyobject(py)?
+                    .into_any(),
+            ),
+        };
+        let state = me.checkpoint(py)?;
+        Ok((rebuild, (how.0, how.1, state).into_pyobject(py)?))
+    }
+
+    /// Unpickling: the simulation `how` built, restored to `state` (see `__reduce__`).
+    #[staticmethod]
+    fn _unpickle<'py>(
+        py: Python<'py>,
+        constructor: &str,
+        how: &Bound<'py, PyAny>,
+        state: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let cls = py.get_type::<Simulation>();
+        let sim = match constructor {
+            "scene_file" => {
+                let (text, json): (String, bool) = how.extract()?;
+                let file = if json {
+                    SceneFile::from_json_str(&text)
+                } else {
+                    SceneFile::from_toml_str(&text)
+                }
+                .map_err(scene_file_error)?;
+                let (world, t_end) = scene_file_world(&file)?;
+                let sim = Self::new(world, Some(t_end), Origin::SceneFile { text, json })?;
+                Bound::new(py, sim)?.into_any()
+            }
+            "periodic_gas" => cls.call_method1("periodic_gas", how.cast::<PyTuple>()?)?,
+            "from_spheres" => {
+                let (args, kwargs): (Bound<'py, PyTuple>, Bound<'py, PyDict>) = how.extract()?;
+                cls.call_method("from_spheres", args, Some(&kwargs))?
+            }
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "unpickling: unknown constructor {other:?}"
+                )));
+            }
+        };
+        sim.call_method1("restore", (state,))?;
+        Ok(sim)
+    }
+
+    /// Appends the state now as one frame of extended XYZ to the file at `path` (created if
+    /// absent): the format of `spheresweep run`'s `trajectory.xyz`, which `read_xyz`, OVITO
+    /// and ASE read (periodic centres wrapped, the box as `Lattice`).
+    fn write_xyz(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let spheres = self.spheres(py)?;
+        let time = self.lock(py).time();
+        crate::xyz::append_frame(&path, &spheres, time, self.periodic_box())
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
         let sim = self.lock(py);
         format!(
             "Simulation(<{} spheres, t = {}, {}>)",
-            sim.spheres().len(),
-            sim.time(),
+            self.world.spheres.len(),
+            show(sim.time()),
             sim.engine_name()
         )
     }
+}
+
+/// The world's starting centres, velocities, radii and masses as float64 arrays: what
+/// `from_spheres` rebuilds the same world from.
+fn start_arrays<'py>(py: Python<'py>, spheres: &[SphereState]) -> PyResult<Bound<'py, PyTuple>> {
+    let n = spheres.len();
+    let rows = |f: fn(&SphereState) -> DVec3| {
+        let data: Vec<f64> = spheres.iter().flat_map(|s| f(s).to_array()).collect();
+        Array2::from_shape_vec((n, 3), data)
+            .expect("3 per sphere")
+            .into_pyarray(py)
+    };
+    let r: Vec<f64> = spheres.iter().map(|s| s.radius).collect();
+    let m: Vec<f64> = spheres.iter().map(|s| s.mass).collect();
+    PyTuple::new(
+        py,
+        [
+            rows(|s| s.centre).into_any(),
+            rows(|s| s.velocity).into_any(),
+            r.into_pyarray(py).into_any(),
+            m.into_pyarray(py).into_any(),
+        ],
+    )
 }

@@ -335,7 +335,12 @@ def test_bad_shapes():
 
 def test_constants():
     assert ss.ACCURACIES == ("textbook", "stable", "double")
-    assert (ss.KIND_NONE, ss.KIND_SPHERE, ss.KIND_PLANE, ss.KIND_CYLINDER, ss.KIND_CONTAINER) == (0, 1, 2, 3, 4)
+    # One code per kind everywhere: the Rust ShapeKind's order (and the checkpoint's byte),
+    # sphere 0, plane 1, cylinder 2, container 3, as the query files code the shapes
+    # (docs/query-format.md); "none" is 255 here (the query files, which never report a
+    # sphere, use 0).
+    assert (ss.KIND_SPHERE, ss.KIND_PLANE, ss.KIND_CYLINDER, ss.KIND_CONTAINER) == (0, 1, 2, 3)
+    assert ss.KIND_NONE == 255
 
 
 # ---------------------------------------------------------------- the Rust binary's bits

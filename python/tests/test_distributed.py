@@ -180,8 +180,9 @@ def test_sharded_spheres_against_shapes_match_the_scene_query(client, tmp_path):
     scene = ss.Scene(spheres, planes, cylinders, containers)
     first = ss.first_contacts(scene, t_max=4.0)
     scene_kind = np.asarray(first.kind)
-    assert not (scene_kind == 1).any()  # no sphere touches a sphere: the reference holds
-    file_kind = np.where(scene_kind == 0, 0, scene_kind - 1)  # 2,3,4 -> 1,2,3
+    assert not (scene_kind == ss.KIND_SPHERE).any()  # no sphere touches a sphere: the reference holds
+    # The same codes for the shapes; "none" is 0 in the query files.
+    file_kind = np.where(scene_kind == ss.KIND_NONE, 0, scene_kind)
     np.testing.assert_array_equal(bits(got["time"]), bits(first.time))
     np.testing.assert_array_equal(got["kind"].to_numpy(), file_kind)
     np.testing.assert_array_equal(got["index"].to_numpy(), first.index)
@@ -278,7 +279,7 @@ def test_partitioned_first_contacts_match_one_machine(client):
     )
     kind = np.asarray(expected.kind)
     partner = np.asarray(expected.index)
-    sphere_hits = np.nonzero(kind == 1)[0]
+    sphere_hits = np.nonzero(kind == ss.KIND_SPHERE)[0]
     # Spheres whose first contact is owned by another slab: the halo must provide them.
     assert (got.plan.owner[sphere_hits] != got.plan.owner[partner[sphere_hits]]).sum() >= 150
     np.testing.assert_array_equal(bits(got.time), bits(expected.time))
@@ -311,7 +312,7 @@ def test_a_halo_below_the_derived_width_loses_contacts(client):
         assert rows < full_rows  # a strict subset: contacts lost, none invented
         missing = np.array(sorted(full_rows - rows))
         # Every lost contact is a pair across a border, never a static contact.
-        assert (missing[:, 1] == 1).all()
+        assert (missing[:, 1] == ss.KIND_SPHERE).all()
         assert (full.plan.owner[missing[:, 0]] != full.plan.owner[missing[:, 2]]).all()
         lost[fraction] = len(missing)
     # 10 % less than the derived width already loses the tight pairs (24 of them at 3 borders).
@@ -328,3 +329,44 @@ def test_partitioned_query_refusals(client):
     bad[42] = np.nan
     with pytest.raises(ValueError, match="42"):
         sd.first_contacts(centres, velocities, bad, t_max=1.0, client=client)
+
+
+def test_no_spheres_give_empty_answers(client):
+    none3, none = np.zeros((0, 3)), np.zeros(0)
+    hits = sd.all_contacts(none3, none3, none, t_max=1.0, partitions=4, client=client)
+    first = sd.first_contacts(none3, none3, none, t_max=1.0, partitions=4, client=client)
+    assert len(hits) == 0 and len(first) == 0 and hits.plan.partitions == 4
+
+
+def test_arguments_are_checked_before_any_task(client, tmp_path):
+    centres, velocities, radii, _ = crowded_scene(n=50)
+    # The binding's own message, raised on the client: no partition is blamed.
+    for call in (
+        lambda: sd.all_contacts(centres, velocities, radii, t_max=1.0, accuracy="exact", client=client),
+        lambda: sd.first_contacts(centres, velocities, radii, t_max=1.0, accuracy="exact", client=client),
+        lambda: sd.zip_times_parquet(tmp_path / "in", tmp_path / "out", accuracy="exact", client=client),
+    ):
+        with pytest.raises(ValueError, match=r'^accuracy: unknown accuracy mode "exact"'):
+            call()
+    frame = pd.DataFrame({c: [0.0] for c in sd.PAIR_COLUMNS})
+    with pytest.raises(TypeError, match="^source: expected a path or a list of paths of a Parquet dataset, got DataFrame"):
+        sd.zip_times_parquet(frame, tmp_path / "out", client=client)
+
+
+def test_without_dask_the_helpers_say_what_to_install():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['distributed'] = None; sys.modules['dask'] = None\n"
+        "import numpy as np\n"
+        "from spheresweep import distributed as sd\n"
+        "try:\n"
+        "    sd.all_contacts(np.zeros((2, 3)), np.zeros((2, 3)), np.ones(2), t_max=1.0)\n"
+        "except ModuleNotFoundError as e:\n"
+        "    print(e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("spheresweep.distributed needs distributed, which is not installed: "
+                                 "pip install 'spheresweep[distributed]'"), out.stdout

@@ -18,6 +18,7 @@
 //! a candidate (quadratic in the number of spheres).
 
 pub mod brute_force;
+pub mod estimate;
 
 use crate::batch::{self, FirstContact, QueryOptions, StaticShape};
 use crate::broad::{Grid, GridOptions};
