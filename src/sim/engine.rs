@@ -452,6 +452,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         };
         e.queue = Calendar::new(width, n, 0.0);
         e.width = width;
+        e.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
         // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
         e.min_progress = width * n as f64 / (1u64 << 30) as f64;
         // Start in cell order (this also fills the calendar).
@@ -493,6 +494,13 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 self.scheduled[e.sphere as usize] = f64::INFINITY;
             }
             self.step(e.sphere);
+            if let Some(s) = self.outcome.collapsing.take() {
+                return Err(SimError::Collapse {
+                    time: self.now,
+                    sphere: self.id_of[s as usize] as usize,
+                    collisions: u64::from(super::response::RAPID_LIMIT),
+                });
+            }
             #[cfg(test)]
             if self.checking {
                 self.check_invariant(e.sphere);
@@ -1304,6 +1312,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         if let Some(log) = &mut self.log {
             log.clear();
         }
+        self.responder
+            .set_time_scale(self.width * n.max(1) as f64 / 2.0);
         self.reschedule();
         Ok(())
     }

@@ -232,7 +232,7 @@ pub enum SimError {
     /// The state broke the invariant every run keeps ([`Simulation::check_invariant`]
     /// (super::Simulation::check_invariant)): a bug in the engine, never the scene's fault.
     #[error(
-        "t = {}: sphere {sphere} is {} by {depth:e}, beyond the tolerance {tolerance:e}: the \
+        "t = {}: sphere {sphere} is {} by {depth:.3e}, beyond the tolerance {tolerance:.3e}: the \
          simulation broke its invariant (a bug in spheresweep; please report it with the scene)",
         crate::error::Num(*time),
         breach_what(other)
@@ -248,6 +248,23 @@ pub enum SimError {
         depth: f64,
         /// The tolerance it exceeds (a length).
         tolerance: f64,
+    },
+    /// Inelastic collapse: a sphere collided again and again, each time within `2⁻²⁰` of a
+    /// sphere's mean time between events of its previous collision — infinitely many collisions
+    /// in finite time, which hard inelastic spheres undergo without the TC model.
+    #[error(
+        "inelastic collapse at t = {}: sphere {sphere} collided {collisions} times in a row, \
+         each within 2⁻²⁰ of a sphere's mean time between events of the one before (infinitely \
+         many collisions in finite time: give the scene the TC model, `tc > 0`)",
+        crate::error::Num(*time)
+    )]
+    Collapse {
+        /// When.
+        time: f64,
+        /// The sphere (public index).
+        sphere: usize,
+        /// Its collisions in a row.
+        collisions: u64,
     },
     /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a
     /// sphere's mean time between events (an inelastic collapse, or a bug).

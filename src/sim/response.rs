@@ -67,7 +67,14 @@ pub(crate) struct Outcome {
     pub guarded: bool,
     /// Whether the sphere left a concave wall at the floor angle (see [`leave_wall`]).
     pub slid: bool,
+    /// A sphere in inelastic collapse: its last [`RAPID_LIMIT`] collisions each came within
+    /// the rapid window of the one before.
+    pub collapsing: Option<u32>,
 }
+
+/// Collisions in a row, each within the rapid window of the sphere's previous one, that mark
+/// inelastic collapse (infinitely many collisions in finite time: the TC model prevents it).
+pub(crate) const RAPID_LIMIT: u32 = 100_000;
 
 impl Outcome {
     /// An empty outcome that keeps `changed`'s buffer.
@@ -104,6 +111,9 @@ pub(crate) trait Responder: Send + Sync + 'static {
     fn check_velocities(&self, _v: &dyn Fn(u32) -> DVec3, _n: usize) -> Result<(), (u32, String)> {
         Ok(())
     }
+    /// The mean time between a sphere's events (known once the engine has predicted them all):
+    /// a response that can collapse sets its rapid window from it.
+    fn set_time_scale(&mut self, _mean: f64) {}
     /// Report-only scenes: whether `j` is the partner `i` is already touching.
     #[inline(always)]
     fn touching(&self, _i: u32, _j: u32) -> bool {
@@ -311,6 +321,10 @@ pub(crate) struct Materials {
     members: Vec<Vec<u32>>,
     /// Cluster masses (`∞` once stuck to a static shape).
     cmass: Vec<f64>,
+    /// Each sphere's collisions in a row within `rapid_window` of its previous one.
+    rapid: Vec<u32>,
+    /// `2⁻²⁰` of the mean time between a sphere's events.
+    rapid_window: f64,
 }
 
 impl Materials {
@@ -324,7 +338,24 @@ impl Materials {
             cluster: (0..count as u32).collect(),
             members: vec![Vec::new(); count],
             cmass: masses.to_vec(),
+            rapid: vec![0; count],
+            rapid_window: 0.0,
         }
+    }
+
+    /// Sphere `s` collided at `now`: the TC model's clock, and the collapse watch.
+    #[inline]
+    fn collided(&mut self, s: u32, now: f64, out: &mut Outcome) {
+        let k = s as usize;
+        if now - self.last[k] < self.rapid_window {
+            self.rapid[k] += 1;
+            if self.rapid[k] >= RAPID_LIMIT {
+                out.collapsing = Some(s);
+            }
+        } else {
+            self.rapid[k] = 0;
+        }
+        self.last[k] = now;
     }
 
     fn response(&self, a: u16, b: u16) -> Response {
@@ -393,9 +424,13 @@ impl Materials {
 impl Responder for Materials {
     const REPORT_ONLY: bool = false;
     const NAME: &'static str = "materials";
+    fn set_time_scale(&mut self, mean: f64) {
+        self.rapid_window = mean / (1u64 << 20) as f64;
+    }
     fn permute(&mut self, new_of_old: &[u32]) {
         // Cluster ids are sphere indices: both the arrays and the ids they hold move.
         self.last = permuted(&self.last, new_of_old);
+        self.rapid = permuted(&self.rapid, new_of_old);
         self.cmass = permuted(&self.cmass, new_of_old);
         self.cluster = permuted(&self.cluster, new_of_old)
             .into_iter()
@@ -411,6 +446,7 @@ impl Responder for Materials {
     fn save(&self, e: &mut Encoder) {
         for k in 0..self.cluster.len() {
             e.f64(self.last[k]);
+            e.u32(self.rapid[k]);
             e.u32(self.cluster[k]);
             e.f64(self.cmass[k]);
             e.len(self.members[k].len());
@@ -423,6 +459,7 @@ impl Responder for Materials {
         let bad = |what: String| Err(SimError::Checkpoint(what));
         for k in 0..n {
             self.last[k] = d.f64()?;
+            self.rapid[k] = d.u32()?.min(RAPID_LIMIT);
             self.cluster[k] = d.u32()?;
             if self.cluster[k] as usize >= n {
                 return bad(format!("cluster {} does not exist", self.cluster[k]));
@@ -508,14 +545,14 @@ impl Responder for Materials {
                 out.joined = true;
                 let c = self.join(ci, cj);
                 self.move_cluster(m, c, v, now, out);
-                self.last[i as usize] = now;
-                self.last[j as usize] = now;
+                self.collided(i, now, out);
+                self.collided(j, now, out);
                 return;
             }
         };
         let (dvi, dvj, lost, virial) = exchange(mi, mj, u, e, n, dist);
-        self.last[i as usize] = now;
-        self.last[j as usize] = now;
+        self.collided(i, now, out);
+        self.collided(j, now, out);
         out.energy_lost = lost;
         out.virial = virial;
         out.restitution = e;
@@ -544,11 +581,11 @@ impl Responder for Materials {
                 out.joined = true;
                 self.cmass[c as usize] = f64::INFINITY;
                 self.move_cluster(m, c, DVec3::ZERO, now, out);
-                self.last[i as usize] = now;
+                self.collided(i, now, out);
                 return;
             }
         };
-        self.last[i as usize] = now;
+        self.collided(i, now, out);
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);
