@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 pub const MAX_MEMORY_VAR: &str = "SPHERESWEEP_MAX_MEMORY";
 
 /// Bytes a size such as `512M`, `2G` or `1000000` stands for.
-fn parse_bytes(text: &str) -> Option<u64> {
+pub fn parse_bytes(text: &str) -> Option<u64> {
     let text = text.trim();
     let (digits, unit) = match text.char_indices().last()? {
         (i, c) if c.is_ascii_alphabetic() => (&text[..i], c.to_ascii_uppercase()),
@@ -210,18 +210,24 @@ pub fn check_scene(
     }
 }
 
-/// Bytes in MiB or GiB, and exactly.
+/// Bytes in GiB, MiB or KiB, and exactly (below a KiB, only exactly).
 pub fn human(bytes: u64) -> String {
-    format!("{} ({bytes} B)", short(bytes))
+    if bytes < 1 << 10 {
+        format!("{bytes} B")
+    } else {
+        format!("{} ({bytes} B)", short(bytes))
+    }
 }
 
-/// Bytes in MiB or GiB.
+/// Bytes in GiB, MiB or KiB.
 fn short(bytes: u64) -> String {
     let b = bytes as f64;
     if b >= (1u64 << 30) as f64 {
         format!("{:.2} GiB", b / (1u64 << 30) as f64)
-    } else {
+    } else if b >= (1u64 << 20) as f64 {
         format!("{:.1} MiB", b / (1u64 << 20) as f64)
+    } else {
+        format!("{:.1} KiB", b / 1024.0)
     }
 }
 

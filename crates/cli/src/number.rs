@@ -2,14 +2,9 @@
 //! (`0.5`, `250000`), in exponent form beyond (`1e39`, `1e300`, `2.5e-7`), so that no message
 //! carries a number of hundreds of digits. Zero, infinities and NaN print as `{}` does.
 
-/// `x` for a message.
+/// `x` for a message (the library's rule, `spheresweep::error::Num`, which its own errors use).
 pub fn num(x: f64) -> String {
-    let m = x.abs();
-    if m == 0.0 || !m.is_finite() || (1e-4..1e6).contains(&m) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+    spheresweep::error::Num(x).to_string()
 }
 
 #[cfg(test)]

@@ -176,3 +176,27 @@ fn a_second_run_into_a_directory_in_use_is_refused() {
     assert_eq!(listing(&out), ["summary.json"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A scene named as one of the run's outputs (through a link or not) is refused before any
+/// work: the run would overwrite its own input.
+#[test]
+fn a_scene_that_is_one_of_the_outputs_is_refused() {
+    let dir = fresh_dir("outdir-scene");
+    let scene = gas(&dir, "gas", 50, 1, "t_end = 1.0", false);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink(&scene, out.join("summary.json")).unwrap();
+    let before = read(&scene);
+    let run = common::bin()
+        .args(["run", "--quiet", "--force"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("are the same file"), "{stderr}");
+    assert_eq!(read(&scene), before);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -17,7 +17,8 @@ use spheresweep::io::xyz;
 use spheresweep::sim::{EventGeometry, EventRecord, SphereState};
 
 use super::events;
-use super::number::num;
+use crate::memory::{human, parse_bytes};
+use crate::number::num;
 
 /// The longest a float is written (`{:?}`, shortest round trip): sign, 17 digits, point,
 /// exponent of three digits.
@@ -150,41 +151,6 @@ pub fn event_bound(geometry: bool) -> u64 {
     .unwrap_or(0)
 }
 
-/// Bytes a size such as `512M`, `2G` or `1000000` stands for.
-fn parse_bytes(text: &str) -> Option<u64> {
-    let text = text.trim();
-    let (digits, unit) = match text.char_indices().last()? {
-        (i, c) if c.is_ascii_alphabetic() => (&text[..i], c.to_ascii_uppercase()),
-        _ => (text, 'B'),
-    };
-    let shift = match unit {
-        'B' => 0,
-        'K' => 10,
-        'M' => 20,
-        'G' => 30,
-        'T' => 40,
-        _ => return None,
-    };
-    digits.trim().parse::<u64>().ok()?.checked_mul(1 << shift)
-}
-
-/// A size in binary units, with the exact count.
-fn human(bytes: u64) -> String {
-    let units = [("TiB", 40), ("GiB", 30), ("MiB", 20), ("KiB", 10)];
-    let shown = units
-        .iter()
-        .find(|(_, shift)| bytes >= 1u64 << shift)
-        .map_or_else(
-            || format!("{bytes} B"),
-            |(unit, shift)| format!("{:.2} {unit}", bytes as f64 / (1u64 << shift) as f64),
-        );
-    if bytes >= 1024 {
-        format!("{shown} ({bytes} B)")
-    } else {
-        shown
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,14 +182,5 @@ mod tests {
         let bound = event_bound(true) * log.len() as u64;
         assert!(!log.is_empty() && rows.len() as u64 <= bound && bound < 2 * rows.len() as u64);
         assert!(event_bound(false) < event_bound(true));
-    }
-
-    #[test]
-    fn sizes_parse_and_print() {
-        assert_eq!(parse_bytes("1M"), Some(1 << 20));
-        assert_eq!(parse_bytes("1000"), Some(1000));
-        assert_eq!(parse_bytes("lots"), None);
-        assert_eq!(human(100), "100 B");
-        assert_eq!(human(1 << 20), "1.00 MiB (1048576 B)");
     }
 }

@@ -14,7 +14,6 @@ mod checkpoint;
 mod events;
 mod hash;
 mod limits;
-mod number;
 mod options;
 mod outputs;
 mod simulate;
@@ -48,7 +47,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
     let n = world.spheres.len();
-    let sim = build_simulation(args, &scene, world, resume.as_ref())?;
+    let mut sim = build_simulation(args, &scene, world, resume.as_ref())?;
+    if args.break_walls_for_testing {
+        sim.break_walls_for_testing();
+    }
     let place = place(args, resume.as_ref(), &settings, n, periodic_box)?;
     let mut run = match resume {
         Some(c) => Run::resume(sim, c, place)?,

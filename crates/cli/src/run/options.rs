@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use spheresweep::io::scene_file::RunSettings;
 use spheresweep::sim::Effects;
 
-use super::number::num;
+use crate::number::num;
 
 /// Options of `spheresweep run`.
 #[derive(Debug, clap::Args)]
@@ -59,6 +59,10 @@ pub struct Args {
     /// space free on the output directory's disk.
     #[arg(long, value_name = "BYTES")]
     pub max_output: Option<String>,
+    /// Fault injection for the tests that show a broken engine is caught: the container-wall
+    /// rules of before 2026-12-01 (`Simulation::break_walls_for_testing`).
+    #[arg(long, hide = true)]
+    pub break_walls_for_testing: bool,
 }
 
 /// What makes a run the run it is, beside its scene.

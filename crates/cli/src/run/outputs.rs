@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::number::num;
 use super::options::Settings;
 use super::staged::{Staged, partial_path};
+use crate::number::num;
 
 pub const TRAJECTORY: &str = "trajectory.xyz";
 pub const EVENTS: &str = "events.csv";
@@ -78,6 +78,10 @@ impl OutDir {
             return Err(format!("--out {}: not a directory", dir.display()));
         }
         crate::output::check_writable(&dir.join(SUMMARY))?;
+        // The scene is never one of the outputs (through a link or not).
+        for name in ALL {
+            crate::output::not_an_input(&dir.join(name), &[scene])?;
+        }
         Ok(Self(dir))
     }
 

@@ -14,10 +14,10 @@ use spheresweep::sim::{Boundary, Simulation, Stats};
 use super::checkpoint::{Counters, Progress, RunCheckpoint};
 use super::events;
 use super::limits::{self, Budget};
-use super::number::num;
 use super::options::Settings;
 use super::outputs::{self, OutDir};
 use super::staged::Staged;
+use crate::number::num;
 
 /// A run under way.
 pub struct Run {
@@ -204,9 +204,12 @@ impl Run {
         Ok(())
     }
 
-    /// A frame of the current state, appended to the trajectory (when snapshots are on).
+    /// A frame of the current state, appended to the trajectory (when snapshots are on), once
+    /// the state is checked against the invariant every run keeps: a breach ends the run with
+    /// the error, naming the sphere, the other body and the time.
     fn snapshot(&mut self) -> Result<(), String> {
         if let Some(t) = self.trajectory.as_mut() {
+            self.sim.check_invariant().map_err(|e| e.to_string())?;
             let (spheres, time) = (self.sim.spheres(), self.sim.time());
             xyz::write_frame(t.writer(), &spheres, time, self.place.periodic_box)
                 .map_err(|e| t.fail(e))?;

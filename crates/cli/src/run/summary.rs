@@ -83,7 +83,9 @@ pub struct Summary {
     clusters: Clusters,
     kernels: Kernels,
     max_overlap: f64,
-    state_overlap: Option<StateOverlap>,
+    max_wall_overlap: f64,
+    slid: u64,
+    state_overlap: StateOverlap,
     crossings: u64,
     stale: u64,
     predictions: u64,
@@ -132,12 +134,13 @@ struct Kernels {
     container: u64,
 }
 
-/// The largest overlaps in the state itself, sphere pairs and spheres against static shapes,
-/// once the run checks its state after every snapshot and at the end (not yet: `null`).
+/// The largest overlaps in the state at the end (`Simulation::check_invariant`), sphere pairs
+/// and spheres against static shapes, each over its tolerance (`1` is the limit; `null` in a
+/// report-only scene, where spheres pass through each other).
 #[derive(Debug, Serialize)]
 struct StateOverlap {
-    pairs: f64,
-    shapes: f64,
+    pairs: Option<f64>,
+    shapes: Option<f64>,
 }
 
 #[derive(Debug, Serialize)]
@@ -150,15 +153,19 @@ struct Pressure {
 }
 
 impl Summary {
-    /// The observables of a run at its end.
-    pub fn of(run: &Run, about: &About) -> Self {
+    /// The observables of a run at its end, its state checked against the invariant first
+    /// (a breach is the run's error).
+    pub fn of(run: &Run, about: &About) -> Result<Self, String> {
         let (sim, c) = (&run.sim, &run.counters);
+        let state = sim.check_invariant().map_err(|e| e.to_string())?;
+        // NaN: a report-only world; −∞: nothing to compare (no shapes, or one sphere).
+        let finite = |x: f64| (!x.is_nan()).then_some(x.max(0.0));
         let stats = *sim.stats();
         let v3 = |v: DVec3| [v.x, v.y, v.z];
         let ke1 = sim.kinetic_energy();
         let clusters = sim.clusters();
         let collisions = stats.pair_collisions + stats.wall_collisions;
-        Self {
+        Ok(Self {
             scene: about.scene.clone(),
             engine: sim.engine_name(),
             spheres: about.spheres,
@@ -195,7 +202,12 @@ impl Summary {
                 container: stats.kernels.container,
             },
             max_overlap: stats.max_overlap,
-            state_overlap: None,
+            max_wall_overlap: stats.max_wall_overlap,
+            slid: stats.slid,
+            state_overlap: StateOverlap {
+                pairs: finite(state.pairs),
+                shapes: finite(state.walls),
+            },
             crossings: stats.crossings,
             stale: stats.stale,
             predictions: stats.predictions,
@@ -208,7 +220,7 @@ impl Summary {
             frames: c.frames,
             events: run.settings.record_events.then_some(c.logged),
             run: Manifest::new(run.fingerprint, &run.settings),
-        }
+        })
     }
 }
 
@@ -231,7 +243,13 @@ fn pressure(b: DVec3, ke: f64, virial: f64, t: f64, about: &About) -> Pressure {
 
 /// Commits the outputs, writes the summary (last) and prints it.
 pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
-    let summary = Summary::of(&run, about);
+    let summary = match Summary::of(&run, about) {
+        Ok(s) => s,
+        Err(e) => {
+            run.abandon();
+            return Err(e.into());
+        }
+    };
     let dir = run.place.dir.clone();
     let mut wrote = Vec::new();
     if run.trajectory.is_some() {
@@ -325,11 +343,28 @@ impl Summary {
         if c.pair + c.wall > 0 {
             writeln!(
                 out,
-                "max overlap  {:.3e} of the contact distance",
-                self.max_overlap
+                "max overlap  at collisions: {:.3e} of the contact distance (pairs), {:.3e} of \
+                 the radius (static shapes)",
+                self.max_overlap, self.max_wall_overlap
             )?;
         } else {
-            writeln!(out, "max overlap  none")?;
+            writeln!(out, "max overlap  at collisions: none")?;
+        }
+        let s = &self.state_overlap;
+        if let (Some(pairs), Some(shapes)) = (s.pairs, s.shapes) {
+            writeln!(
+                out,
+                "state        checked at each snapshot and at the end: deepest overlap {:.3e} \
+                 (pairs) and {:.3e} (static shapes) of the tolerance 2⁻¹⁶",
+                pairs, shapes
+            )?;
+        }
+        if c.wall > 0 && self.slid > 0 {
+            writeln!(
+                out,
+                "sliding      {} wall collisions left a container at its floor angle (docs/derivations/simulation.md, \"Concave walls\")",
+                self.slid
+            )?;
         }
         if let Some(p) = &self.pressure {
             write!(
@@ -407,10 +442,12 @@ mod tests {
                 container: 0,
             },
             max_overlap: 0.0,
-            state_overlap: Some(StateOverlap {
-                pairs: 0.0,
-                shapes: 0.0,
-            }),
+            max_wall_overlap: 0.0,
+            slid: 0,
+            state_overlap: StateOverlap {
+                pairs: Some(0.0),
+                shapes: Some(0.0),
+            },
             crossings: 0,
             stale: 0,
             predictions: 2,
