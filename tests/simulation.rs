@@ -5,8 +5,8 @@
 
 use glam::DVec3;
 use spheresweep::sim::{
-    Boundary, Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, Simulation, SphereState,
-    World, generate,
+    Boundary, Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation,
+    SphereState, World, generate,
 };
 use spheresweep::{Container, Cylinder, Plane, ShapeKind};
 
@@ -213,22 +213,111 @@ fn inelastic_collisions_take_the_energy_restitution_predicts() {
     assert!((lost - sim.stats().energy_lost).abs() <= 1e-9 * e0);
 }
 
-/// Without the TC model a dense, strongly inelastic pile collapses (infinitely many
-/// collisions in finite time); the engine says so instead of hanging. With it, the same pile
-/// runs to `T`.
+/// Each collision applies its restitution along the line of centres, checked from the public
+/// state alone, event by event: before and after each of the first 400 events, the test
+/// computes the normal from the two centres (or from the vessel's centre), the approach speed
+/// before, the separation speed after (`e` times it, `e` = 0.7, or 1 within the TC time), the
+/// tangential velocities (unchanged) and the kinetic energy the event took. A wrong normal or
+/// impulse would fail here even where the engine's own account of it agrees with itself.
 #[test]
-fn inelastic_collapse_is_caught_or_prevented() {
-    let mut with_tc = Simulation::new(granular(0.1, 1e-2)).unwrap();
-    with_tc.advance_to(50.0).unwrap();
+fn each_collision_applies_its_restitution_along_the_line_of_centres() {
+    let world = granular(0.7, 1e-3);
+    let mut first = Simulation::new(world.clone()).unwrap();
+    first.advance_to(3.0).unwrap();
+    let events = first.take_events();
+    let mut sim = Simulation::new(world).unwrap();
+    let mut before = sim.spheres();
+    let mut checked = 0;
+    for (k, ev) in events.iter().enumerate().take(400) {
+        if events.get(k + 1).is_some_and(|n| n.time == ev.time) || ev.time == sim.time() {
+            sim.advance_to(ev.time).unwrap();
+            before = sim.spheres();
+            continue; // two events at one instant: not separable by stepping
+        }
+        sim.advance_to(ev.time).unwrap();
+        let after = sim.spheres();
+        let i = ev.sphere as usize;
+        let (n, dv0, dv1, mu) = if ev.other.kind == ShapeKind::Sphere {
+            let j = ev.other.index as usize;
+            let n = (after[j].centre - after[i].centre).normalize();
+            (
+                n,
+                before[j].velocity - before[i].velocity,
+                after[j].velocity - after[i].velocity,
+                0.5,
+            )
+        } else {
+            // The vessel: the normal from the sphere towards the wall.
+            let n = after[i].centre.normalize();
+            (n, -before[i].velocity, -after[i].velocity, 1.0)
+        };
+        let u = -dv0.dot(n);
+        let separating = dv1.dot(n);
+        let e = if (separating - 0.7 * u).abs() <= 1e-9 * u.abs().max(1e-3) {
+            0.7
+        } else {
+            1.0
+        };
+        assert!(u > 0.0, "event {k}: approach {u:e}");
+        assert!(
+            (separating - e * u).abs() <= 1e-9 * u,
+            "event {k}: separates at {separating:e}, approached at {u:e}"
+        );
+        assert!(
+            ((dv1 - n * dv1.dot(n)) - (dv0 - n * dv0.dot(n))).length() <= 1e-9 * dv0.length(),
+            "event {k}: the tangential velocity changed"
+        );
+        let ke = |s: &[SphereState]| {
+            s.iter()
+                .map(|s| 0.5 * s.velocity.length_squared())
+                .sum::<f64>()
+        };
+        let lost = ke(&before) - ke(&after);
+        let expected = 0.5 * mu * u * u * (1.0 - e * e);
+        assert!(
+            (lost - expected).abs() <= 1e-9 * ke(&before),
+            "event {k}: lost {lost:e}, expected {expected:e}"
+        );
+        before = after;
+        checked += 1;
+    }
+    assert!(checked > 300, "only {checked} events checked");
+}
+
+/// Without the TC model a dense, strongly inelastic pile collapses (infinitely many
+/// collisions in finite time): the engine names the collapse — the sphere, the time and the
+/// remedy — instead of hanging, and nothing has left the vessel by then. With the TC model the
+/// same pile runs to `T` and keeps every sphere inside.
+#[test]
+fn inelastic_collapse_is_named_or_prevented() {
+    let inside = |sim: &Simulation| {
+        for s in sim.spheres() {
+            let out = s.centre.length() + s.radius - 8.0;
+            assert!(
+                out <= OVERLAP_TOLERANCE * s.radius,
+                "{out:e} outside at t = {}",
+                sim.time()
+            );
+        }
+        sim.check_invariant().unwrap();
+    };
     let mut without = Simulation::new(granular(0.1, 0.0)).unwrap();
     match without.advance_to(50.0) {
-        Ok(()) => {}
-        Err(e) => assert!(e.to_string().contains("stalled"), "{e}"),
+        Err(e @ SimError::Collapse { time, .. }) => {
+            assert!(time < 50.0 && e.to_string().contains("tc > 0"), "{e}");
+        }
+        other => panic!("expected the collapse named, got {other:?}"),
+    }
+    inside(&without);
+    let mut with_tc = Simulation::new(granular(0.1, 1e-2)).unwrap();
+    for step in 1..=10 {
+        with_tc.advance_to(f64::from(step) * 5.0).unwrap();
+        inside(&with_tc);
     }
 }
 
-/// Sticky clusters conserve momentum as they grow (free space, no walls), move as one, and
-/// sticky contact with a plane stops the cluster.
+/// Sticky clusters conserve momentum as they grow (free space, no walls) and move as one
+/// (a plane stopping a cluster: `sticky_contact_with_a_plane_stops_the_cluster`).
 #[test]
 fn sticky_clusters_conserve_momentum_and_move_as_one() {
     let spheres = generate::random_spheres(
@@ -276,6 +365,57 @@ fn sticky_clusters_conserve_momentum_and_move_as_one() {
         );
     }
     assert!((e0 - sim.kinetic_energy() - sim.stats().energy_lost).abs() <= 1e-9 * e0);
+}
+
+/// A sticky cluster that meets a sticky floor stops there (its mass becomes infinite), and a
+/// sphere that then sticks to it stops too; positions checked by hand.
+#[test]
+fn sticky_contact_with_a_plane_stops_the_cluster() {
+    let ball = |x: f64, vx: f64, vz: f64| SphereState {
+        centre: DVec3::new(x, 0.0, 3.0),
+        velocity: DVec3::new(vx, 0.0, vz),
+        radius: 0.5,
+        mass: 1.0,
+        material: 0,
+    };
+    // A and B close at 1 along x from 2 apart: they touch at t = 1 (centres 1 apart) and join,
+    // falling at 1 from z = 2: the cluster's lowest point reaches the floor at t = 2.5.
+    // C, above, falls at 2 and meets the stopped cluster later.
+    let mut c = ball(-0.5, 0.0, -2.0);
+    c.centre.z = 9.0;
+    let w = World {
+        spheres: vec![ball(-1.0, 0.5, -1.0), ball(1.0, -0.5, -1.0), c],
+        planes: vec![Fixed {
+            shape: Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(),
+            material: 0,
+        }],
+        materials: vec!["glue".into()],
+        effects: Effects {
+            response: Response::Sticky,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.advance_to(2.0).unwrap();
+    assert_eq!(sim.clusters(), [vec![0, 1]]);
+    sim.advance_to(10.0).unwrap();
+    let s = sim.spheres();
+    for (k, expected) in [
+        (0, DVec3::new(-0.5, 0.0, 0.5)),
+        (1, DVec3::new(0.5, 0.0, 0.5)),
+    ] {
+        assert!(
+            (s[k].centre - expected).length() < 1e-12,
+            "{k}: {}",
+            s[k].centre
+        );
+        assert_eq!(s[k].velocity, DVec3::ZERO);
+    }
+    // C landed on sphere 0 and stuck: at rest, touching it.
+    assert_eq!(s[2].velocity, DVec3::ZERO);
+    assert!(((s[2].centre - s[0].centre).length() - 1.0).abs() < 1e-12);
+    assert_eq!(sim.clusters(), [vec![0, 1, 2]]);
 }
 
 /// Nothing passes through a plane or a pillar: a jet at a floor and cylinders, elastic walls.
