@@ -27,6 +27,33 @@ fn refuse<T>(generator: &'static str, field: &'static str, problem: String) -> R
     })
 }
 
+/// A generator's radius: finite and greater than 0.
+fn check_radius(generator: &'static str, radius: f64) -> Result<(), SimError> {
+    if radius > 0.0 && radius.is_finite() {
+        return Ok(());
+    }
+    refuse(
+        generator,
+        "radius",
+        format!("radius = {radius:?} must be finite and greater than 0"),
+    )
+}
+
+/// A generator's spacing between neighbours: at least a diameter, so that none overlap.
+fn check_spacing(generator: &'static str, spacing: f64, radius: f64) -> Result<(), SimError> {
+    if spacing >= 2.0 * radius && spacing.is_finite() {
+        return Ok(());
+    }
+    refuse(
+        generator,
+        "spacing",
+        format!(
+            "spacing = {spacing:?} must be at least a diameter ({:?})",
+            2.0 * radius
+        ),
+    )
+}
+
 /// An empty vector with room for `n` items, or the memory error (never an abort).
 pub(crate) fn room<T>(n: usize, what: &str) -> Result<Vec<T>, SimError> {
     let mut v = Vec::new();
@@ -110,13 +137,7 @@ pub fn periodic_gas(
             format!("phi = {phi:?} must be above 0 and below 0.7"),
         );
     }
-    if !(radius > 0.0 && radius.is_finite()) {
-        return refuse(
-            G,
-            "radius",
-            format!("radius = {radius:?} must be finite and greater than 0"),
-        );
-    }
+    check_radius(G, radius)?;
     if !(kt >= 0.0 && kt.is_finite()) {
         return refuse(
             G,
@@ -228,13 +249,7 @@ pub fn random_spheres(
     seed: u64,
 ) -> Result<Vec<SphereState>, SimError> {
     const G: &str = "random spheres";
-    if !(radius > 0.0 && radius.is_finite()) {
-        return refuse(
-            G,
-            "radius",
-            format!("radius = {radius:?} must be finite and greater than 0"),
-        );
-    }
+    check_radius(G, radius)?;
     if !speed.is_finite() {
         return refuse(G, "speed", format!("speed = {speed:?} must be finite"));
     }
@@ -346,26 +361,11 @@ pub fn nozzle(
             },
         );
     }
-    if !(radius > 0.0 && radius.is_finite()) {
-        return refuse(
-            G,
-            "radius",
-            format!("radius = {radius:?} must be finite and greater than 0"),
-        );
-    }
+    check_radius(G, radius)?;
     if !speed.is_finite() {
         return refuse(G, "speed", format!("speed = {speed:?} must be finite"));
     }
-    if !(spacing >= 2.0 * radius && spacing.is_finite()) {
-        return refuse(
-            G,
-            "spacing",
-            format!(
-                "spacing = {spacing:?} must be at least a diameter ({:?})",
-                2.0 * radius
-            ),
-        );
-    }
+    check_spacing(G, spacing, radius)?;
     if !(jitter >= 0.0 && jitter < spacing) {
         return refuse(
             G,
@@ -424,23 +424,8 @@ pub fn cubic_lattice(
     seed: u64,
 ) -> Result<Vec<SphereState>, SimError> {
     const G: &str = "lattice";
-    if !(radius > 0.0 && radius.is_finite()) {
-        return refuse(
-            G,
-            "radius",
-            format!("radius = {radius:?} must be finite and greater than 0"),
-        );
-    }
-    if !(spacing >= 2.0 * radius && spacing.is_finite()) {
-        return refuse(
-            G,
-            "spacing",
-            format!(
-                "spacing = {spacing:?} must be at least a diameter ({:?})",
-                2.0 * radius
-            ),
-        );
-    }
+    check_radius(G, radius)?;
+    check_spacing(G, spacing, radius)?;
     if !(lo.is_finite() && speed.is_finite()) {
         let field = if lo.is_finite() { "speed" } else { "lo" };
         return refuse(G, field, format!("{field} must be finite"));
