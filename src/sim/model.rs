@@ -206,8 +206,8 @@ pub enum SimError {
         /// Bytes asked for.
         bytes: usize,
     },
-    /// A new state given for the spheres does not fit them ([`Simulation::set_velocities`]
-    /// (super::Simulation::set_velocities)).
+    /// A new state given for the spheres does not fit them
+    /// ([`Simulation::set_velocities`](super::Simulation::set_velocities)).
     #[error("{0}")]
     State(String),
     /// A time that is not finite or lies before the simulation's current time.
@@ -229,8 +229,9 @@ pub enum SimError {
     /// A checkpoint could not be restored.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
-    /// The state broke the invariant every run keeps ([`Simulation::check_invariant`]
-    /// (super::Simulation::check_invariant)): a bug in the engine, never the scene's fault.
+    /// The state broke the invariant every run keeps
+    /// ([`Simulation::check_invariant`](super::Simulation::check_invariant)): a bug in the
+    /// engine, never the scene's fault.
     #[error(
         "t = {}: sphere {sphere} is {} by {depth:.3e}, beyond the tolerance {tolerance:.3e}: the \
          simulation broke its invariant (a bug in spheresweep; please report it with the scene)",
