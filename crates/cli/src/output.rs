@@ -175,12 +175,23 @@ fn beside(path: &Path, suffix: &str) -> PathBuf {
 /// The process id in `file_name` if it is a temporary of `output` ([`temporary`]'s name for
 /// it, written by any process).
 pub fn is_temporary_of(file_name: &str, output: &Path) -> Option<u32> {
+    leftover_of(file_name, output, "tmp")
+}
+
+/// The process id in `file_name` if it is an earlier output that process set aside
+/// ([`set_aside`]'s name for it).
+fn is_set_aside_of(file_name: &str, output: &Path) -> Option<u32> {
+    leftover_of(file_name, output, "old")
+}
+
+fn leftover_of(file_name: &str, output: &Path, suffix: &str) -> Option<u32> {
     let name = output.file_name()?.to_str()?;
     let pid = file_name
         .strip_prefix('.')?
         .strip_prefix(name)?
         .strip_prefix('.')?
-        .strip_suffix(".tmp")?;
+        .strip_suffix(suffix)?
+        .strip_suffix('.')?;
     if pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
         return None;
     }
@@ -194,8 +205,10 @@ fn running(pid: u32) -> bool {
 }
 
 /// Removes the temporaries of `outputs` (files or directories) whose process is no longer
-/// running: what a process killed while writing them (SIGKILL) left behind. Temporaries of a
-/// running process, this one's included, and every other file are left alone.
+/// running: what a process killed while writing them (SIGKILL) left behind. An earlier output
+/// set aside by such a process goes too once the output itself is in place (killed between
+/// its two renames; without the output, the set-aside copy is the only one and is kept).
+/// Temporaries of a running process, this one's included, and every other file are left alone.
 pub fn remove_stale_temporaries(outputs: &[PathBuf]) {
     let mut dirs: Vec<PathBuf> = outputs.iter().map(|p| directory(p)).collect();
     dirs.sort();
@@ -210,7 +223,10 @@ pub fn remove_stale_temporaries(outputs: &[PathBuf]) {
             let stale = outputs
                 .iter()
                 .filter(|o| directory(o) == dir)
-                .find_map(|o| is_temporary_of(name, o))
+                .find_map(|o| {
+                    is_temporary_of(name, o)
+                        .or_else(|| is_set_aside_of(name, o).filter(|_| o.exists()))
+                })
                 .is_some_and(|pid| !running(pid));
             if stale {
                 let path = entry.path();
@@ -234,6 +250,8 @@ mod tests {
         let name = mine.file_name().unwrap().to_str().unwrap();
         assert_eq!(is_temporary_of(name, out), Some(std::process::id()));
         assert_eq!(is_temporary_of(".pairs-toi.csv.77.tmp", out), Some(77));
+        assert_eq!(is_set_aside_of(".pairs-toi.csv.77.old", out), Some(77));
+        assert_eq!(is_set_aside_of(".pairs-toi.csv.77.tmp", out), None);
         for other in [
             "pairs-toi.csv",
             ".pairs-toi.csv.tmp",

@@ -226,6 +226,8 @@ fn a_killed_querys_temporaries_are_removed_by_the_next_query_into_that_output() 
     let running = plant(&dir, &format!(".times.csv.{live}.tmp"), false);
     let other = plant(&dir, &format!(".other.csv.{dead}.tmp"), false);
     let stale_dir = plant(&dir, &format!(".toi.{dead}.tmp"), true);
+    // An earlier `toi` a killed query set aside between its two renames.
+    let set_aside = plant(&dir, &format!(".toi.{dead}.old"), true);
     let out = spheresweep(&["query", s(&input), "--out", s(&dir.join("times.csv"))]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(!stale.exists(), "{:?}", names(&dir));
@@ -235,6 +237,12 @@ fn a_killed_querys_temporaries_are_removed_by_the_next_query_into_that_output() 
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(!stale_dir.exists(), "{:?}", names(&dir));
     assert!(running.exists() && other.exists());
+    // While `toi` did not exist, the set-aside copy was the only one, and was kept; with `toi`
+    // in place, the next query into it removes it.
+    assert!(set_aside.exists(), "{:?}", names(&dir));
+    let out = spheresweep(&["query", s(&input), "--out", s(&dir.join("toi"))]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!set_aside.exists(), "{:?}", names(&dir));
     std::fs::remove_dir_all(&dir).ok();
 }
 
