@@ -17,6 +17,7 @@ __all__ = [
     "Contacts",
     "Cylinder",
     "FirstContacts",
+    "InvariantError",
     "Plane",
     "Scene",
     "Simulation",
@@ -270,6 +271,10 @@ def all_contacts(
 ) -> Contacts:
     """Every contact in ``[0, t_max]``: each sphere pair once, every sphere with every shape."""
 
+class InvariantError(RuntimeError):
+    """The state broke the invariant every run keeps (a bug in spheresweep): the message
+    names the sphere, the other body and the time."""
+
 @final
 class Simulation:
     """A running event-driven simulation in float64, collisions in exact time order."""
@@ -313,10 +318,27 @@ class Simulation:
         ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
         may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
         "sticky")`` overrides per pair of materials."""
-    def advance_to(self, t: float, *, progress: Optional[Callable[[float], Any]] = None) -> None:
+    def advance_to(
+        self,
+        t: float,
+        *,
+        progress: Optional[Callable[[float], Any]] = None,
+        check: bool = True,
+    ) -> None:
         """Processes every collision up to ``t`` (GIL released). Ctrl-C raises
         KeyboardInterrupt between two events (the simulation usable); ``progress(time)`` is
-        called at most ten times a second and once with ``t`` at the end."""
+        called at most ten times a second and once with ``t`` at the end. With ``check`` the
+        state reached is checked against the invariant (InvariantError if broken)."""
+    def check_invariant(self) -> Dict[str, float]:
+        """``{"time", "pairs", "walls"}``: the deepest overlap of a pair and of a sphere with
+        a shape, minus its tolerance (``<= 0`` within it); InvariantError beyond it."""
+    def _break_walls_for_testing(self) -> None: ...
+    def set_velocities(self, velocities: _ArrayLike) -> None:
+        """A new velocity for every sphere, float64 ``(N, 3)``; every event predicted again."""
+    def images(self) -> npt.NDArray[np.int64]:
+        """int64 ``(N, 3)``: crossings of each face of the periodic box (+1 out the upper)."""
+    def unwrapped_positions(self) -> _F64:
+        """``positions + images() * box``: centres the periodic box did not wrap."""
     @property
     def time(self) -> float: ...
     @property
@@ -340,7 +362,8 @@ class Simulation:
     @property
     def stats(self) -> Dict[str, Union[int, float]]:
         """Counters: collisions, pair_collisions, wall_collisions, crossings, stale,
-        predictions, kernels_*, energy_lost, virial, max_overlap, joins, guarded."""
+        predictions, kernels_*, energy_lost, virial, max_overlap, max_wall_overlap, slid,
+        joins, guarded."""
     @property
     def engine(self) -> str: ...
     def memory_bytes(self) -> int: ...

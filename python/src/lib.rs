@@ -37,6 +37,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::all_contacts, m)?)?;
     m.add_function(wrap_pyfunction!(xyz::read_xyz, m)?)?;
     m.add_function(wrap_pyfunction!(bench::_rust_zip_times_ns, m)?)?;
+    m.add("InvariantError", py.get_type::<sim::InvariantError>())?;
     m.add("ACCURACIES", batch::accuracies(py)?)?;
     m.add("KIND_NONE", results::KIND_NONE)?;
     for kind in spheresweep::ShapeKind::ALL {

@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 use spheresweep::io::scene_file::{SceneFile, SceneFileError};
@@ -23,6 +24,26 @@ use crate::memory;
 use crate::results::{KIND_NONE, kind_code, put_column};
 use crate::scene::shape_items;
 use crate::shapes::{AnyStatic, Takes};
+
+create_exception!(
+    spheresweep,
+    InvariantError,
+    PyRuntimeError,
+    "The simulation's state broke the invariant every run keeps (a sphere overlapping another \
+     or through a static shape beyond the derived tolerance): a bug in spheresweep, never the \
+     scene's fault. The message names the sphere, the other body and the time."
+);
+
+/// A simulation error as Python raises it: `MemoryError` for memory refused up front,
+/// `InvariantError` for a breach of the invariant, `ValueError` for the rest (the scene's or
+/// the caller's values, named in the message).
+fn sim_error(e: sim::SimError) -> PyErr {
+    match e {
+        sim::SimError::Memory { .. } => PyMemoryError::new_err(e.to_string()),
+        sim::SimError::Breach { .. } => InvariantError::new_err(e.to_string()),
+        e => value_error(e),
+    }
+}
 
 /// How often at most `advance_to` calls its `progress` callback.
 const PROGRESS_EVERY: Duration = Duration::from_millis(100);
@@ -61,7 +82,7 @@ fn simulation_bytes(n: usize) -> usize {
 
 impl Simulation {
     fn new(world: World, t_end: Option<f64>, origin: Origin) -> PyResult<Self> {
-        let sim = sim::Simulation::new(world.clone()).map_err(value_error)?;
+        let sim = sim::Simulation::new(world.clone()).map_err(sim_error)?;
         Ok(Self {
             sim: Mutex::new(sim),
             world,
@@ -343,7 +364,7 @@ impl Simulation {
             ..World::default()
         };
         world.effects.record_events = record;
-        generate::periodic_gas(&mut world, n, phi, radius, kt, seed).map_err(value_error)?;
+        generate::periodic_gas(&mut world, n, phi, radius, kt, seed).map_err(sim_error)?;
         let args = PyTuple::new(
             py,
             [
@@ -472,15 +493,21 @@ impl Simulation {
     /// events and raises `KeyboardInterrupt`, the simulation left usable at the time it
     /// reached (`time`). `progress`, if given, is called as `progress(time)` at most ten times
     /// a second while it runs, and once with `t` at the end (an exception from it stops the
-    /// run likewise). `ValueError` if `t` is not finite or before `time`.
-    #[pyo3(signature = (t, *, progress = None))]
+    /// run likewise). `ValueError` if `t` is not finite or before `time`. With `check` (the
+    /// default) the state reached is checked against the invariant (`check_invariant`), as
+    /// `spheresweep run` checks every snapshot: `InvariantError` naming the sphere, the other
+    /// body and the time if it is broken.
+    #[pyo3(signature = (t, *, progress = None, check = None),
+           text_signature = "($self, t, *, progress=None, check=True)")]
     fn advance_to(
         &self,
         py: Python<'_>,
         t: &Bound<'_, PyAny>,
         progress: Option<&Bound<'_, PyAny>>,
+        check: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let t = real(t, "t")?;
+        let check = optional(check).map_or(Ok(true), |c| flag(c, "check"))?;
         let progress = optional(progress).map(|p| p.clone().unbind());
         if let Some(p) = &progress
             && !p.bind(py).is_callable()
@@ -511,7 +538,13 @@ impl Simulation {
         };
         let finished = py
             .detach(|| sim.advance_with(t, &mut |now, _| watch.keep_going(now)))
-            .map_err(value_error)?;
+            .map_err(sim_error)?;
+        if check {
+            // `&mut`: the simulation is `Send`, not `Sync`.
+            let sim = &mut *sim;
+            py.detach(move || sim.check_invariant().map(drop))
+                .map_err(sim_error)?;
+        }
         if let Some(e) = watch.error {
             return Err(e);
         }
@@ -584,10 +617,88 @@ impl Simulation {
         (p.x, p.y, p.z)
     }
 
+    /// Checks the state now against the invariant every run keeps, from the positions alone:
+    /// no two spheres overlap, and none is through a static shape or past a container's wall,
+    /// beyond the derived tolerance (docs/derivations/simulation.md, "The invariant every run
+    /// keeps"). Returns `{"time", "pairs", "walls"}`: the deepest overlap of a pair and of a
+    /// sphere with a shape, each minus its tolerance (`<= 0` when within it; NaN in a world
+    /// where spheres pass through each other). `InvariantError` naming the sphere, the other
+    /// body and the time otherwise.
+    fn check_invariant<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let mut guard = self.lock(py);
+        // `&mut`: the simulation is `Send`, not `Sync`.
+        let sim: &mut sim::Simulation = &mut guard;
+        let report = py
+            .detach(move || sim.check_invariant())
+            .map_err(sim_error)?;
+        let d = PyDict::new(py);
+        d.set_item("time", report.time)?;
+        d.set_item("pairs", report.pairs)?;
+        d.set_item("walls", report.walls)?;
+        Ok(d)
+    }
+
+    /// Breaks the concave-wall rules on purpose (the rules under which spheres left inelastic
+    /// vessels), so that a test can show `advance_to` catch the breach. Not for other use.
+    fn _break_walls_for_testing(&self, py: Python<'_>) {
+        self.lock(py).break_walls_for_testing();
+    }
+
+    /// Gives every sphere a new velocity now (float64 `(N, 3)`, one row per sphere), as a
+    /// thermostat or a restart at another temperature would; every event is predicted again.
+    /// `ValueError` naming the sphere for a non-finite row, and for a sticky cluster whose
+    /// members are given different velocities (or one stuck to a shape given a non-zero one).
+    fn set_velocities(&self, py: Python<'_>, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
+        let n = self.world.spheres.len();
+        let v = floats::<f64>(velocities, "velocities", Expect::Rows3)?;
+        let v = v.as_array();
+        if v.shape()[0] != n {
+            return Err(PyValueError::new_err(format!(
+                "velocities: {} rows, expected {n} (one per sphere)",
+                v.shape()[0]
+            )));
+        }
+        let mut rows = memory::with_capacity(n, "velocities")?;
+        rows.extend((0..n).map(|i| DVec3::from_array(row3(&v, i))));
+        let mut guard = self.lock(py);
+        let sim: &mut sim::Simulation = &mut guard;
+        py.detach(|| sim.set_velocities(&rows)).map_err(sim_error)
+    }
+
+    /// How many times each sphere has crossed each face of the periodic box, int64 `(N, 3)`
+    /// (`+1` out through the upper face); all zero in open space.
+    fn images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let n = self.world.spheres.len();
+        memory::check("images", n.saturating_mul(2 * 24))?;
+        let data: Vec<i64> = self.lock(py).images().into_iter().flatten().collect();
+        Ok(Array2::from_shape_vec((n, 3), data)
+            .expect("3 per sphere")
+            .into_pyarray(py))
+    }
+
+    /// Centres as if the periodic box did not wrap them, float64 `(N, 3)`:
+    /// `positions + images() * box` (the same as `positions` in open space), for a
+    /// mean-squared displacement.
+    fn unwrapped_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let size = self.periodic_box().unwrap_or(DVec3::ZERO);
+        let images = self.lock(py).images();
+        let spheres = self.spheres(py)?;
+        let mut data = memory::with_capacity(3 * spheres.len(), "unwrapped positions")?;
+        for (s, k) in spheres.iter().zip(&images) {
+            let k = DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64);
+            data.extend((s.centre + k * size).to_array());
+        }
+        Ok(Array2::from_shape_vec((spheres.len(), 3), data)
+            .expect("3 per sphere")
+            .into_pyarray(py))
+    }
+
     /// Counters since the start, as a dict: `collisions` (pair + wall), `pair_collisions`,
     /// `wall_collisions`, `crossings`, `stale`, `predictions`, `kernels_sphere`,
     /// `kernels_plane`, `kernels_cylinder`, `kernels_container`, `energy_lost`, `virial`,
-    /// `max_overlap`, `joins`, `guarded`.
+    /// `max_overlap` (of a pair, over its contact distance), `max_wall_overlap` (of a sphere
+    /// with a shape, over its radius), `slid` (collisions with a concave wall answered by the
+    /// sliding floor), `joins`, `guarded`.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = *self.lock(py).stats();
@@ -605,6 +716,8 @@ impl Simulation {
         d.set_item("energy_lost", s.energy_lost)?;
         d.set_item("virial", s.virial)?;
         d.set_item("max_overlap", s.max_overlap)?;
+        d.set_item("max_wall_overlap", s.max_wall_overlap)?;
+        d.set_item("slid", s.slid)?;
         d.set_item("joins", s.joins)?;
         d.set_item("guarded", s.guarded)?;
         Ok(d)
@@ -648,7 +761,7 @@ impl Simulation {
         memory::check("restore", simulation_bytes(world.spheres.len()))?;
         let restored = py
             .detach(move || sim::Simulation::restore(world, data))
-            .map_err(value_error)?;
+            .map_err(sim_error)?;
         *self.lock(py) = restored;
         Ok(())
     }

@@ -237,7 +237,7 @@ def whole_scene(centres, velocities, radii, shapes):
 
 def straddling_pairs(contacts, plan):
     """Sphere-sphere contacts whose two spheres are owned by different slabs."""
-    pairs = np.asarray(contacts.kind) == 1
+    pairs = np.asarray(contacts.kind) == ss.KIND_SPHERE
     s = np.asarray(contacts.sphere, dtype=np.int64)[pairs]
     o = np.asarray(contacts.index)[pairs]
     return int((plan.owner[s] != plan.owner[o]).sum())
@@ -258,7 +258,8 @@ def test_partitioned_all_contacts_match_one_machine(client, accuracy):
 
     assert got.plan.partitions == 8 and got.plan.axis == 0
     assert straddling_pairs(expected, got.plan) >= 150  # the borders are exercised
-    assert {1, 2, 3, 4} <= set(np.asarray(expected.kind).tolist())
+    every_kind = {ss.KIND_SPHERE, ss.KIND_PLANE, ss.KIND_CYLINDER, ss.KIND_CONTAINER}
+    assert every_kind <= set(np.asarray(expected.kind).tolist())
     np.testing.assert_array_equal(bits(got.time), bits(expected.time))
     np.testing.assert_array_equal(got.sphere, expected.sphere)
     np.testing.assert_array_equal(got.kind, expected.kind)

@@ -128,7 +128,7 @@ def test_simulation_errors():
         sim.advance_to(0.5)
     with pytest.raises(ValueError, match="t: cannot advance to t = nan: the end time must be finite"):
         sim.advance_to(math.nan)
-    with pytest.raises(ValueError, match="packing fraction 0.9 must be in"):
+    with pytest.raises(ValueError, match=r"periodic gas: phi = 0.9 must be above 0 and below 0.7"):
         ss.Simulation.periodic_gas(100, 0.9)
     with pytest.raises(ValueError, match="spheres 0 and 1 overlap"):
         ss.Simulation.from_spheres([[0, 0, 0], [1, 0, 0]], np.zeros((2, 3)), [1.0, 1.0])
@@ -403,3 +403,59 @@ def test_reading_a_simulation_another_thread_advances_does_not_deadlock():
         pytest.fail("deadlock: reading while another thread advances hung for 120 s")
     assert out.returncode == 0, out.stderr
     assert out.stdout.startswith("reads ")
+
+
+def test_restore_takes_a_checkpoint_that_differs_only_in_record_events():
+    # Recording events is not part of the system: a checkpoint of a gas that records none
+    # restores into the same gas that records them, and both go on alike.
+    quiet = ss.Simulation.periodic_gas(200, 0.3, seed=4)
+    loud = ss.Simulation.periodic_gas(200, 0.3, seed=4, record_events=True)
+    quiet.advance_to(1.0)
+    loud.restore(quiet.checkpoint())
+    quiet.advance_to(2.0)
+    loud.advance_to(2.0)
+    assert np.array_equal(loud.positions, quiet.positions)
+    events = loud.take_events()
+    assert len(events["time"]) > 0 and events["time"].min() > 1.0
+
+
+def test_set_velocities_restarts_at_another_temperature():
+    sim = ss.Simulation.periodic_gas(300, 0.2, seed=2)
+    sim.advance_to(1.0)
+    e = sim.kinetic_energy()
+    sim.set_velocities(2 * sim.velocities)
+    assert sim.kinetic_energy() == 4 * e  # doubling is exact in floating point
+    sim.advance_to(2.0)
+    # Elastic: the new energy is kept from there on.
+    assert sim.kinetic_energy() == pytest.approx(4 * e, rel=drift_bound(sim.stats["collisions"]))
+    # At rest, nothing moves.
+    sim.set_velocities(np.zeros((300, 3)))
+    before = sim.positions
+    sim.advance_to(3.0)
+    assert np.array_equal(sim.positions, before)
+    with pytest.raises(ValueError, match=r"velocities: 2 rows, expected 300"):
+        sim.set_velocities(np.zeros((2, 3)))
+    bad = np.zeros((300, 3))
+    bad[7, 1] = np.nan
+    with pytest.raises(ValueError, match="sphere 7"):
+        sim.set_velocities(bad)
+    with pytest.raises(TypeError, match="velocities"):
+        sim.set_velocities("fast")
+
+
+def test_images_and_unwrapped_positions_follow_a_free_flight():
+    # Two spheres far apart in a periodic box of 10, flying without a collision: the unwrapped
+    # centre is start + v t, and the images count the faces crossed.
+    start = np.array([[1.0, 1.0, 1.0], [6.0, 6.0, 6.0]])
+    v = np.array([[3.0, 0.0, 0.0], [0.0, -2.0, 0.0]])
+    sim = ss.Simulation.from_spheres(start, v, [0.5, 0.5], periodic_box=[10, 10, 10])
+    sim.advance_to(7.0)
+    assert sim.stats["pair_collisions"] == 0
+    assert sim.images().tolist() == [[2, 0, 0], [0, -1, 0]]
+    assert np.allclose(sim.unwrapped_positions(), start + 7.0 * v, atol=1e-12)
+    assert (sim.positions >= 0).all() and (sim.positions <= 10).all()
+    # In open space the images are zero and nothing is unwrapped.
+    free = ss.Simulation.from_spheres(start, v, [0.5, 0.5])
+    free.advance_to(7.0)
+    assert free.images().tolist() == [[0, 0, 0]] * 2 and free.box is None
+    assert np.array_equal(free.unwrapped_positions(), free.positions)
