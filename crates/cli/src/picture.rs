@@ -269,6 +269,22 @@ const FLOOR: Rgb = Rgb::hex(0x8c6d46);
 const PERIODIC: Rgb = Rgb::hex(0xd62728);
 const REGION: Rgb = Rgb::hex(0xb0b0b0);
 
+/// A cylinder seen from the side: a band along its projected axis, in pixels, and how near
+/// the viewer its axis passes.
+struct Band {
+    nearness: f64,
+    corners: [(f64, f64); 4],
+}
+
+impl Band {
+    fn draw(self, canvas: &mut Canvas) {
+        let [a, b, c, d] = self.corners;
+        canvas.polygon(self.corners.to_vec(), PILLAR);
+        canvas.line(vec![a, b], PILLAR.shade(0.7), 1.5);
+        canvas.line(vec![d, c], PILLAR.shade(0.7), 1.5);
+    }
+}
+
 /// Pixels from scene units for one panel.
 struct Map {
     scale: f64,
@@ -363,7 +379,10 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         let r = f64::from(k.radius()) * map.scale;
         canvas.disk(c, r, Some(Rgb::hex(0xeef2f6).into()), None);
     }
-    // Cylinders: a disk when seen along the axis, otherwise a band of half-width r.
+    // Cylinders: a disk when seen along the axis, otherwise a band of half-width r, drawn in
+    // depth order with the spheres (a sphere behind a pillar is hidden by it) unless a
+    // container's cover must go over them.
+    let mut bands = Vec::new();
     for c in &shapes.cylinders {
         let (axis, q, r) = (
             c.axis().as_dvec3(),
@@ -384,17 +403,25 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         }
         let (du, dv) = (au / len, av / len);
         let (nu, nv) = (-dv * r, du * r);
-        let far = reach;
         let p = |s: f64, side: f64| {
             map.px((centre.0 + du * s + nu * side, centre.1 + dv * s + nv * side))
         };
-        canvas.polygon(
-            vec![p(-far, -1.0), p(far, -1.0), p(far, 1.0), p(-far, 1.0)],
-            PILLAR,
-        );
-        canvas.line(vec![p(-far, -1.0), p(far, -1.0)], PILLAR.shade(0.7), 1.5);
-        canvas.line(vec![p(-far, 1.0), p(far, 1.0)], PILLAR.shade(0.7), 1.5);
+        let middle = (lo + hi) / 2.0;
+        bands.push(Band {
+            nearness: view.nearness(q + axis * (middle - q).dot(axis)),
+            corners: [
+                p(-reach, -1.0),
+                p(reach, -1.0),
+                p(reach, 1.0),
+                p(-reach, 1.0),
+            ],
+        });
     }
+    let in_depth_order = shapes.containers.is_empty();
+    if !in_depth_order {
+        bands.drain(..).for_each(|b| b.draw(canvas));
+    }
+    bands.sort_by(|a, b| a.nearness.total_cmp(&b.nearness));
     // Planes: the line where each crosses the section plane.
     for p in &shapes.planes {
         let (n, q) = (p.normal().as_dvec3(), p.point().as_dvec3());
@@ -443,13 +470,18 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         view.nearness(content.spheres[a].centre)
             .total_cmp(&view.nearness(content.spheres[b].centre))
     });
+    let mut bands = bands.into_iter().peekable();
     for i in order {
         let s = &content.spheres[i];
+        while let Some(band) = bands.next_if(|b| b.nearness <= view.nearness(s.centre)) {
+            band.draw(canvas);
+        }
         let fill = (content.fill)(i, s);
         let r = s.radius * map.scale;
         let stroke = (r >= 2.5).then(|| (fill.rgb.shade(0.6).alpha(fill.alpha), 0.8));
         canvas.disk(map.px(view.project(s.centre)), r, Some(fill), stroke);
     }
+    bands.for_each(|b| b.draw(canvas));
     for k in &shapes.containers {
         let c = map.px(view.project(k.centre().as_dvec3()));
         let r = f64::from(k.radius()) * map.scale;
@@ -730,6 +762,63 @@ mod tests {
             let e = bad.parse::<Size>().unwrap_err();
             assert!(e.contains(why), "{bad}: {e}");
         }
+    }
+
+    /// In the side view a pillar hides the sphere behind it and not the one in front (the
+    /// pillar used to be drawn under every sphere).
+    #[test]
+    fn a_pillar_is_drawn_in_depth_order_with_the_spheres() {
+        let ball = |x: f64, y: f64, z: f64| SphereState {
+            centre: DVec3::new(x, y, z),
+            velocity: DVec3::ZERO,
+            radius: 0.5,
+            mass: 1.0,
+            material: 0,
+        };
+        // The pillar along z at y = -4 (nearer than y = 0 seen along +y); a sphere behind it
+        // at y = 0 and one in front at y = -6, both over its band in the picture.
+        let spheres = [ball(0.0, 0.0, -2.0), ball(0.0, -6.0, 3.0)];
+        let shapes = Shapes {
+            cylinders: vec![Cylinder::new([0.0, -4.0, 0.0], [0.0, -4.0, 1.0], 1.0).unwrap()],
+            ..Shapes::default()
+        };
+        let red = Rgb::hex(0xff0000);
+        let fill = move |_: usize, _: &SphereState| Paint::from(red);
+        let content = Content {
+            spheres: &spheres,
+            fill: &fill,
+            shapes: &shapes,
+            paths: &[],
+            bounds: (DVec3::new(-5.0, -8.0, -5.0), DVec3::new(5.0, 8.0, 5.0)),
+        };
+        let panel = Panel {
+            rect: Rect {
+                x: 0.0,
+                y: 0.0,
+                w: 202.0,
+                h: 202.0,
+            },
+            view: View::Side,
+            title: String::new(),
+            slab: None,
+        };
+        let mut canvas = Canvas::new(202, 202, PANEL);
+        draw_panel(&mut canvas, &panel, &content);
+        let raster = canvas.raster();
+        // 20 pixels a unit, the scene's (x, z) = (0, 0) at pixel (101, 101).
+        let at = |x: f64, z: f64| {
+            let (i, j) = ((101.0 + x * 20.0) as usize, (101.0 - z * 20.0) as usize);
+            let k = 3 * (j * 202 + i);
+            [raster[k], raster[k + 1], raster[k + 2]]
+        };
+        let pillar = at(0.0, 0.0);
+        assert_ne!(pillar, at(4.0, 0.0), "the pillar is drawn");
+        assert_eq!(
+            at(0.0, -2.0),
+            pillar,
+            "the sphere behind the pillar is hidden"
+        );
+        assert_ne!(at(0.0, 3.0), pillar, "the sphere in front is drawn over it");
     }
 
     #[test]
