@@ -93,7 +93,8 @@ pub fn model(pair: &Pair, mode: Accuracy, t_max: f64) -> Model {
     let ambiguous = q.abs() <= dq
         || a <= da
         || (b.abs() <= db && in_contact)
-        || t_ref.is_some_and(|t| (t - t_max).abs() <= dt);
+        // A root near the window's end; a contact now (t = 0) is in every window.
+        || t_ref.is_some_and(|t| t > 0.0 && (t - t_max).abs() <= dt);
     Model {
         ambiguous,
         dt,
