@@ -57,7 +57,9 @@ if [[ -z ${SPHERESWEEP_SKIP_FRESH_INSTALL:-} ]]; then
     fresh=target/python-fresh-venv
     rm -rf "$fresh"
     "$python" -m venv "$fresh"
-    printf '%s\n' "${pins[@]}" | grep -v -e '^maturin' -e '^pytest' -e '^mypy' > target/python-constraints.txt
+    # pip takes no extras in a constraint: `dask[distributed]==V` is written `dask==V`.
+    printf '%s\n' "${pins[@]}" | grep -v -e '^maturin' -e '^pytest' -e '^mypy' \
+        | sed 's/\[[^]]*\]//' > target/python-constraints.txt
     "$fresh/bin/pip" install --quiet --disable-pip-version-check --no-cache-dir \
         -c target/python-constraints.txt "$wheel[distributed]"
     (cd target && "../$fresh/bin/python" ../python/tests/docs_distributed_example.py ../docs/distributed.md)
