@@ -249,6 +249,9 @@ pub fn kernels(data: &[u8]) {
             let reference = pair.time_of_impact(f64::from(t_max));
             let m = model(&pair, mode, f64::from(t_max));
             match (reference, time) {
+                // Inside the band a container's answer may switch between its root and t = 0
+                // (tests/narrow_differential.rs `check`; reference::quadratic::in_contact_now).
+                (Some(r), Some(k)) if m.ambiguous && (r == 0.0) != (k == 0.0) => {}
                 (Some(r), Some(k)) => assert!(
                     (f64::from(k) - r).abs() <= m.dt,
                     "{mode}: t = {k} vs reference {r}: beyond the bound {:e}\n{pair:?}",
