@@ -4,13 +4,15 @@
 //! never interrupted. `demo` and `query` stop the same way.
 
 mod common;
+mod run_support;
 
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
 use common::{bin, fresh_dir, spawn_gas_run};
+use run_support::{physics, read};
 
 fn signal(child: &Child, name: &str) {
     let ok = Command::new("kill")
@@ -122,22 +124,13 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
         "{}",
         String::from_utf8_lossy(&resumed.stderr)
     );
-    let read = |p: PathBuf| std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     assert!(
-        read(full.join("trajectory.xyz")) == read(cut.join("trajectory.xyz")),
+        read(&full.join("trajectory.xyz")) == read(&cut.join("trajectory.xyz")),
         "the trajectory of the interrupted and resumed run differs ({err})"
     );
-    let physics = |p: PathBuf| {
-        String::from_utf8(read(p))
-            .unwrap()
-            .lines()
-            .filter(|l| !l.contains("wall_seconds") && !l.contains("per_second"))
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
     assert_eq!(
-        physics(full.join("summary.json")),
-        physics(cut.join("summary.json"))
+        physics(&full.join("summary.json")),
+        physics(&cut.join("summary.json"))
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
