@@ -681,8 +681,16 @@ impl Simulation {
     /// mean-squared displacement.
     fn unwrapped_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let size = self.periodic_box().unwrap_or(DVec3::ZERO);
-        let images = self.lock(py).images();
-        let spheres = self.spheres(py)?;
+        let n = self.world.spheres.len();
+        memory::check(
+            "unwrapped positions",
+            n.saturating_mul(std::mem::size_of::<SphereState>() + 48),
+        )?;
+        // One lock for both: another thread's `advance_to` must not come between them.
+        let (images, spheres) = {
+            let sim = self.lock(py);
+            (sim.images(), sim.spheres())
+        };
         let mut data = memory::with_capacity(3 * spheres.len(), "unwrapped positions")?;
         for (s, k) in spheres.iter().zip(&images) {
             let k = DVec3::new(k[0] as f64, k[1] as f64, k[2] as f64);
