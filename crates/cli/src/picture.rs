@@ -383,6 +383,7 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
     // depth order with the spheres (a sphere behind a pillar is hidden by it) unless a
     // container's cover must go over them.
     let mut bands = Vec::new();
+    let middle = (lo + hi) / 2.0;
     for c in &shapes.cylinders {
         let (axis, q, r) = (
             c.axis().as_dvec3(),
@@ -406,7 +407,6 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
         let p = |s: f64, side: f64| {
             map.px((centre.0 + du * s + nu * side, centre.1 + dv * s + nv * side))
         };
-        let middle = (lo + hi) / 2.0;
         bands.push(Band {
             nearness: view.nearness(q + axis * (middle - q).dot(axis)),
             corners: [
