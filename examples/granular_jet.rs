@@ -40,10 +40,10 @@ use std::time::Instant;
 use common::{Args, check, write_atomic};
 use glam::DVec3;
 use spheresweep::sim::{
-    Boundary, Effects, EventRecord, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, Simulation,
-    World, generate,
+    Boundary, Effects, EventRecord, MaterialPair, OVERLAP_TOLERANCE, Response, Simulation, World,
+    generate,
 };
-use spheresweep::{Cylinder, Plane, ShapeKind};
+use spheresweep::{Cylinder, Plane, ShapeKind, Statics};
 
 const GRAIN_RADIUS: f64 = 0.25;
 const SPACING: f64 = 0.6;
@@ -255,10 +255,10 @@ fn jet_world(per_nozzle: usize) -> Result<World, String> {
     let inelastic = |restitution| Response::Inelastic { restitution };
     let mut world = World {
         materials: ["grain", "floor", "steel"].map(String::from).to_vec(),
-        planes: vec![Fixed {
-            shape: Plane::new([0.0; 3], [0.0, 0.0, 1.0]).map_err(|e| e.to_string())?,
-            material: FLOOR,
-        }],
+        statics: Statics::new().with(
+            Plane::new([0.0; 3], [0.0, 0.0, 1.0]).map_err(|e| e.to_string())?,
+            FLOOR,
+        ),
         effects: Effects {
             response: inelastic(0.8),
             pairs: vec![
@@ -282,10 +282,7 @@ fn jet_world(per_nozzle: usize) -> Result<World, String> {
     for &(x, y) in &PILLARS {
         let (x, y, r) = (x as f32, y as f32, PILLAR_RADIUS as f32);
         let shape = Cylinder::new([x, y, 0.0], [x, y, 1.0], r).map_err(|e| e.to_string())?;
-        world.cylinders.push(Fixed {
-            shape,
-            material: STEEL,
-        });
+        world.statics.push(shape, STEEL);
     }
     let mut seed = 11;
     for i in -1..=1 {

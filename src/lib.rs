@@ -34,6 +34,7 @@ pub mod rng;
 pub mod scene;
 pub mod shape;
 pub mod sim;
+pub mod statics;
 pub mod store;
 
 pub use accuracy::Accuracy;
@@ -41,6 +42,7 @@ pub use batch::{BatchError, FirstContact, QueryOptions, time_of_impact};
 pub use contact::{Body, Contact, Side};
 pub use error::{Error, Problem, ShapeError};
 pub use shape::{Container, Cylinder, Plane, Shape, ShapeKind, Sphere};
+pub use statics::{Static, StaticShape, Statics};
 pub use store::{SphereStore, StoreError};
 
 /// The README's examples, compiled and run as doctests.

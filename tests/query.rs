@@ -57,20 +57,28 @@ fn gas(n: usize, phi: f64, radii: (f64, f64), seed: u64) -> SphereStore {
 fn with_statics(spheres: SphereStore, side: f32) -> Scene {
     Scene {
         spheres,
-        planes: vec![
-            Plane::new([0.0, 0.0, -side], [0.0, 0.0, 1.0]).unwrap(),
-            Plane::new([side, 0.0, 0.0], [-1.0, 0.2, 0.0]).unwrap(),
-        ],
         // Several of a kind: the statics stage then culls shapes a lane group cannot reach.
-        cylinders: vec![
-            Cylinder::from_axis([0.0; 3], [0.0, 0.0, 1.0], side / 10.0).unwrap(),
-            Cylinder::from_axis([side / 2.0, 0.0, 0.0], [0.0, 0.3, 1.0], side / 20.0).unwrap(),
-            Cylinder::from_axis([-side / 2.0, side / 3.0, 0.0], [1.0, 0.0, 0.2], 1.0).unwrap(),
-        ],
-        containers: vec![
-            Container::new([0.0; 3], 1.5 * side).unwrap(),
-            Container::new([1.0, 0.0, 0.0], 1.2 * side).unwrap(),
-        ],
+        statics: [
+            Plane::new([0.0, 0.0, -side], [0.0, 0.0, 1.0])
+                .unwrap()
+                .into(),
+            Plane::new([side, 0.0, 0.0], [-1.0, 0.2, 0.0])
+                .unwrap()
+                .into(),
+            Cylinder::from_axis([0.0; 3], [0.0, 0.0, 1.0], side / 10.0)
+                .unwrap()
+                .into(),
+            Cylinder::from_axis([side / 2.0, 0.0, 0.0], [0.0, 0.3, 1.0], side / 20.0)
+                .unwrap()
+                .into(),
+            Cylinder::from_axis([-side / 2.0, side / 3.0, 0.0], [1.0, 0.0, 0.2], 1.0)
+                .unwrap()
+                .into(),
+            Container::new([0.0; 3], 1.5 * side).unwrap().into(),
+            Container::new([1.0, 0.0, 0.0], 1.2 * side).unwrap().into(),
+        ]
+        .into_iter()
+        .collect(),
     }
 }
 

@@ -5,10 +5,10 @@
 
 use glam::DVec3;
 use spheresweep::sim::{
-    Boundary, Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation,
+    Boundary, Effects, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation,
     SphereState, World, generate,
 };
-use spheresweep::{Container, Cylinder, Plane, ShapeKind};
+use spheresweep::{Container, Cylinder, Plane, ShapeKind, Statics};
 
 fn gas(n: usize, phi: f64, seed: u64) -> World {
     let mut w = World::default();
@@ -151,10 +151,7 @@ fn granular(e: f64, tc: f64) -> World {
     .unwrap();
     World {
         spheres,
-        containers: vec![Fixed {
-            shape: container,
-            material: 0,
-        }],
+        statics: Statics::new().with(container, 0),
         materials: vec!["grain".into()],
         effects: Effects {
             response: Response::Inelastic { restitution: e },
@@ -173,7 +170,7 @@ fn granular(e: f64, tc: f64) -> World {
 #[test]
 fn inelastic_collisions_take_the_energy_restitution_predicts() {
     let w = granular(0.7, 1e-3);
-    let container = w.containers[0].shape;
+    let container = w.statics.of::<Container>().shapes()[0];
     let mut sim = Simulation::new(w).unwrap();
     assert!(
         sim.engine_name().starts_with("materials"),
@@ -385,10 +382,7 @@ fn sticky_contact_with_a_plane_stops_the_cluster() {
     c.centre.z = 9.0;
     let w = World {
         spheres: vec![ball(-1.0, 0.5, -1.0), ball(1.0, -0.5, -1.0), c],
-        planes: vec![Fixed {
-            shape: Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(),
-            material: 0,
-        }],
+        statics: Statics::new().with(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(), 0),
         materials: vec!["glue".into()],
         effects: Effects {
             response: Response::Sticky,
@@ -443,14 +437,7 @@ fn nothing_passes_through_planes_or_pillars() {
     .unwrap();
     let w = World {
         spheres,
-        planes: vec![Fixed {
-            shape: floor,
-            material: 0,
-        }],
-        cylinders: pillars
-            .iter()
-            .map(|&shape| Fixed { shape, material: 0 })
-            .collect(),
+        statics: (pillars.iter()).fold(Statics::new().with(floor, 0), |s, &p| s.with(p, 0)),
         materials: vec!["steel".into()],
         ..World::default()
     };

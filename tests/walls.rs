@@ -10,10 +10,10 @@
 
 use glam::DVec3;
 use spheresweep::sim::{
-    Effects, Fixed, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation, SphereState,
-    Stats, World, generate,
+    Effects, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation, SphereState, Stats,
+    World, generate,
 };
-use spheresweep::{Container, Cylinder, Plane};
+use spheresweep::{Body, Container, Cylinder, Plane, ShapeKind, Statics};
 
 /// One snapshot as `spheresweep run` writes it, parsed back here: each sphere's centre and
 /// radius, from the columns the `Properties` line names.
@@ -69,31 +69,16 @@ struct Shapes {
 impl Shapes {
     fn of(w: &World) -> Self {
         Self {
-            containers: w
-                .containers
-                .iter()
-                .map(|c| (c.shape.centre().as_dvec3(), f64::from(c.shape.radius())))
+            containers: (w.statics.of::<Container>().shapes().iter())
+                .map(|c| (c.centre().as_dvec3(), f64::from(c.radius())))
                 .collect(),
-            planes: w
-                .planes
-                .iter()
-                .map(|p| {
-                    (
-                        p.shape.point().as_dvec3(),
-                        p.shape.normal().as_dvec3().normalize(),
-                    )
-                })
+            planes: (w.statics.of::<Plane>().shapes().iter())
+                .map(|p| (p.point().as_dvec3(), p.normal().as_dvec3().normalize()))
                 .collect(),
-            pillars: w
-                .cylinders
-                .iter()
+            pillars: (w.statics.of::<Cylinder>().shapes().iter())
                 .map(|c| {
-                    let axis = c.shape.axis().as_dvec3().normalize();
-                    (
-                        c.shape.point().as_dvec3(),
-                        axis,
-                        f64::from(c.shape.radius()),
-                    )
+                    let axis = c.axis().as_dvec3().normalize();
+                    (c.point().as_dvec3(), axis, f64::from(c.radius()))
                 })
                 .collect(),
         }
@@ -185,10 +170,7 @@ fn one_in_a_vessel(restitution: f64, tc: f64) -> World {
             mass: 1.0,
             material: 0,
         }],
-        containers: vec![Fixed {
-            shape: Container::new([0.0; 3], 6.0).unwrap(),
-            material: 0,
-        }],
+        statics: Statics::new().with(Container::new([0.0; 3], 6.0).unwrap(), 0),
         effects: Effects {
             response: Response::Inelastic { restitution },
             tc,
@@ -287,7 +269,10 @@ fn sticky_beads_stop_at_walls_and_nothing_goes_through() {
         ..w
     };
     let mut vessel = many_in_a_vessel(150, 0.5, 0.0, 3);
-    vessel.containers[0].material = 1;
+    *vessel
+        .statics
+        .payload_mut(Body::new(ShapeKind::Container, 0))
+        .unwrap() = 1;
     let (stats, _) = run(glue(vessel), 200.0, 1.0).unwrap_or_else(|(e, _)| panic!("{e}"));
     assert!(stats.joins > 100, "{stats:?}");
 
@@ -308,23 +293,16 @@ fn sticky_beads_stop_at_walls_and_nothing_goes_through() {
     .unwrap();
     let slab = World {
         spheres,
-        planes: vec![
-            Fixed {
-                shape: Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(),
-                material: 1,
+        statics: (-3..=3).fold(
+            Statics::new()
+                .with(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap(), 1)
+                .with(Plane::new([0.0, 0.0, 6.0], [0.0, 0.0, -1.0]).unwrap(), 0),
+            |s, k| {
+                let x = 2.0 * k as f32;
+                let pillar = Cylinder::new([x, 0.0, 0.0], [x, 0.0, 1.0], 0.5).unwrap();
+                s.with(pillar, if k % 2 == 0 { 1 } else { 0 })
             },
-            Fixed {
-                shape: Plane::new([0.0, 0.0, 6.0], [0.0, 0.0, -1.0]).unwrap(),
-                material: 0,
-            },
-        ],
-        cylinders: (-3..=3)
-            .map(|k| Fixed {
-                shape: Cylinder::new([2.0 * k as f32, 0.0, 0.0], [2.0 * k as f32, 0.0, 1.0], 0.5)
-                    .unwrap(),
-                material: if k % 2 == 0 { 1 } else { 0 },
-            })
-            .collect(),
+        ),
         ..World::default()
     };
     let (stats, _) = run(glue(slab), 200.0, 1.0).unwrap_or_else(|(e, _)| panic!("{e}"));

@@ -7,34 +7,11 @@ use std::marker::PhantomData;
 use super::driver::{LaneKernel, fill, store_lanes, with_mode};
 use super::{BatchError, FirstContact, QueryOptions, check_output};
 use crate::contact::{Body, contact_at};
+use crate::kernels::against_static;
 use crate::kernels::quadratic::Solver;
-use crate::kernels::{StaticKernel, against_static};
 use crate::lanes::Lanes;
-use crate::shape::{Container, Cylinder, Plane, Shape, ShapeKind};
+pub use crate::statics::StaticShape;
 use crate::store::SphereStore;
-
-/// A static shape kind that every sphere is tested against: [`Plane`], [`Cylinder`],
-/// [`Container`]. Sealed: the kernels behind it are the crate's own.
-///
-/// ```
-/// use spheresweep::{Cylinder, Plane, ShapeKind, batch::StaticShape};
-/// assert_eq!(<Plane as StaticShape>::KIND, ShapeKind::Plane);
-/// assert_eq!(Cylinder::KIND, ShapeKind::Cylinder);
-/// ```
-pub trait StaticShape: StaticKernel + Copy + Into<Shape> + Sync {
-    /// Which kind of body it is.
-    const KIND: ShapeKind;
-}
-
-impl StaticShape for Plane {
-    const KIND: ShapeKind = ShapeKind::Plane;
-}
-impl StaticShape for Cylinder {
-    const KIND: ShapeKind = ShapeKind::Cylinder;
-}
-impl StaticShape for Container {
-    const KIND: ShapeKind = ShapeKind::Container;
-}
 
 struct AgainstOne<'a, L: Lanes, S, K: StaticShape> {
     spheres: &'a SphereStore,

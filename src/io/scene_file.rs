@@ -44,8 +44,7 @@ use serde::Deserialize;
 
 use crate::error::ShapeError;
 use crate::sim::{
-    Boundary, Effects, Fixed, MaterialPair, Response, SimError, Simulation, SphereState, World,
-    generate,
+    Boundary, Effects, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
 };
 use crate::{Container, Cylinder, Plane, ShapeKind};
 
@@ -1313,7 +1312,7 @@ impl SceneFile {
             )?;
             let shape = Plane::new(f32s(p.point), f32s(p.normal))
                 .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.planes.push(Fixed { shape, material });
+            world.statics.push(shape, material);
         }
         for (i, c) in self.cylinder.iter().enumerate() {
             let item = format!("cylinder {i}");
@@ -1328,7 +1327,7 @@ impl SceneFile {
                 let field = if e.field == "axis" { "p2" } else { e.field };
                 self.shape_error(&item, &path(field), e)
             })?;
-            world.cylinders.push(Fixed { shape, material });
+            world.statics.push(shape, material);
         }
         for (i, c) in self.container.iter().enumerate() {
             let item = format!("container {i}");
@@ -1341,7 +1340,7 @@ impl SceneFile {
             )?;
             let shape = Container::new(f32s(c.centre), c.radius as f32)
                 .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.containers.push(Fixed { shape, material });
+            world.statics.push(shape, material);
         }
         Ok(())
     }
@@ -1574,9 +1573,9 @@ impl SceneFile {
             }
         };
         let vessel = match g.inside {
-            Some(k) => match world.containers.get(k) {
+            Some(k) => match world.statics.of::<Container>().shapes().get(k) {
                 Some(c) => {
-                    let (centre, r) = (c.shape.centre().as_dvec3(), f64::from(c.shape.radius()));
+                    let (centre, r) = (c.centre().as_dvec3(), f64::from(c.radius()));
                     lo = lo.max(centre - r);
                     hi = hi.min(centre + r);
                     Some((centre, r))
@@ -1587,7 +1586,7 @@ impl SceneFile {
                         &path("inside"),
                         format!(
                             "inside = {k}: there are {} containers (counted from 0)",
-                            world.containers.len()
+                            world.statics.of::<Container>().len()
                         ),
                     ));
                 }
@@ -1623,19 +1622,7 @@ impl SceneFile {
         let margin = 1e-9 * radius;
         let inside = |p: DVec3| {
             occupied.is_free(p, radius)
-                && world.containers.iter().all(|c| {
-                    let d = p.distance(c.shape.centre().as_dvec3());
-                    d + radius + margin <= f64::from(c.shape.radius())
-                })
-                && world.planes.iter().all(|q| {
-                    let n = q.shape.normal().as_dvec3().normalize();
-                    (p - q.shape.point().as_dvec3()).dot(n).abs() >= radius + margin
-                })
-                && world.cylinders.iter().all(|c| {
-                    let s = c.shape.axis().as_dvec3().normalize();
-                    let x = p - c.shape.point().as_dvec3();
-                    (x - s * x.dot(s)).length() >= f64::from(c.shape.radius()) + radius + margin
-                })
+                && (world.statics.iter()).all(|(_, s, _)| s.normal_gap(p, radius).1 >= margin)
         };
         generate::random_spheres(
             lo,
@@ -1847,15 +1834,15 @@ radius = 30.0
                 response: Response::Sticky
             }]
         );
+        let kinds: Vec<_> = world.statics.iter().map(|(b, _, &m)| (b.kind, m)).collect();
         assert_eq!(
-            (
-                world.planes.len(),
-                world.cylinders.len(),
-                world.containers.len()
-            ),
-            (1, 1, 1)
+            kinds,
+            [
+                (ShapeKind::Plane, 1),
+                (ShapeKind::Cylinder, kinds[1].1),
+                (ShapeKind::Container, kinds[2].1)
+            ]
         );
-        assert_eq!(world.planes[0].material, 1);
         // The random block is inside its container.
         for s in &world.spheres[51..151] {
             assert!(s.centre.distance(DVec3::new(0.0, 0.0, 10.0)) <= 30.0 - 0.3);

@@ -26,11 +26,12 @@ use sphere_container::ContainerLanes;
 use sphere_cylinder::CylinderLanes;
 use sphere_plane::PlaneLanes;
 
-/// A static shape kind's kernel: the shape prepared once per batch, and its time of impact
-/// with the at-risk mask of the f32 range check.
+/// A static shape kind's kernel and its f64 geometry: the shape prepared once per batch, its
+/// time of impact with the at-risk mask of the f32 range check, and the gap functions the
+/// simulation and scene assembly use (each kind's own, in its kernel file).
 pub trait StaticKernel: Sync {
     /// The shape splatted across lanes.
-    type Lanes<L: Lanes>: Sync;
+    type Lanes<L: Lanes>: Sync + Send + Copy;
     /// Prepares the lanes.
     fn prepare<L: Lanes>(&self) -> Self::Lanes<L>;
     /// Times per lane and the mask of lanes outside the f32 safe range.
@@ -38,10 +39,57 @@ pub trait StaticKernel: Sync {
     /// Whether a sphere swept inside the box `[lo, hi]` (f64, finite) could touch the shape:
     /// `false` only when none can, so a caller may skip the kernel.
     fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool;
+    /// The unit normal from the shape towards a sphere centred at `r` and the signed gap
+    /// between the sphere and the shape (negative when it is through).
+    fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64);
+    /// Which side of the shape `r` is on, for a shape a sphere may be on either side of (a
+    /// plane); `true` for the others.
+    fn side(&self, r: DVec3) -> bool {
+        let _ = r;
+        true
+    }
+    /// The gap of a sphere at `r` that must stay on `side` ([`StaticKernel::side`]).
+    fn gap_on_side(&self, r: DVec3, radius: f64, side: bool) -> f64 {
+        let _ = side;
+        self.normal_gap(r, radius).1
+    }
+    /// For a concave wall that keeps spheres inside (a container): its centre and radius.
+    fn interior(&self) -> Option<(DVec3, f64)> {
+        None
+    }
+    /// The least gap of a sphere moving from `r` at velocity `v` for `horizon` (may be `∞`),
+    /// in closed form: the brute-force check after every event in the engine's tests.
+    #[cfg(test)]
+    fn least_gap_on_path(&self, r: DVec3, v: DVec3, horizon: f64, radius: f64) -> f64;
+}
+
+/// The f64 lanes a static shape is prepared in for the simulation's scalar settle.
+pub(crate) type SettleLanes<K> = <K as StaticKernel>::Lanes<f64x4>;
+
+/// The earliest admissible time of a sphere (centre `r`, velocity `v`, `radius`) with the
+/// prepared shape, in f64 (the `Stable` kernel on `f64x4`, one lane used).
+#[inline]
+pub(crate) fn settle_static<K: StaticKernel>(s: &SettleSphere, prepared: &SettleLanes<K>) -> f64 {
+    K::raw::<f64x4, Stable>(s, prepared, f64x4::splat(f64::INFINITY))
+        .0
+        .to_array()[0]
+}
+
+/// One sphere in the f64 lanes of the simulation's settle.
+pub(crate) type SettleSphere = SphereLanes<f64x4>;
+
+/// One sphere in every f64 lane.
+#[inline]
+pub(crate) fn sphere_settle_lanes(r: DVec3, v: DVec3, radius: f64) -> SettleSphere {
+    SphereLanes {
+        c: [r.x, r.y, r.z].map(f64x4::splat),
+        v: [v.x, v.y, v.z].map(f64x4::splat),
+        r: f64x4::splat(radius),
+    }
 }
 
 macro_rules! static_kernel {
-    ($t:ident, $lanes:ident, $kernel:ident, $reach:ident) => {
+    ($t:ident, $lanes:ident, $kernel:ident, $reach:ident { $($extra:item)* }) => {
         impl StaticKernel for $t {
             type Lanes<L: Lanes> = $lanes<L>;
             #[inline]
@@ -55,17 +103,51 @@ macro_rules! static_kernel {
             fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
                 $reach(self, lo, hi)
             }
+            #[inline]
+            fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64) {
+                $kernel::normal_gap(self, r, radius)
+            }
+            $($extra)*
         }
     };
 }
-static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach);
-static_kernel!(Cylinder, CylinderLanes, sphere_cylinder, cylinder_may_reach);
-static_kernel!(
-    Container,
-    ContainerLanes,
-    sphere_container,
-    container_may_reach
-);
+static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach {
+    fn side(&self, r: DVec3) -> bool {
+        sphere_plane::side(self, r)
+    }
+    fn gap_on_side(&self, r: DVec3, radius: f64, side: bool) -> f64 {
+        sphere_plane::gap_on_side(self, r, radius, side)
+    }
+    #[cfg(test)]
+    fn least_gap_on_path(&self, r: DVec3, v: DVec3, horizon: f64, radius: f64) -> f64 {
+        sphere_plane::least_gap_on_path(self, r, far_end(r, v, horizon), radius)
+    }
+});
+static_kernel!(Cylinder, CylinderLanes, sphere_cylinder, cylinder_may_reach {
+    #[cfg(test)]
+    fn least_gap_on_path(&self, r: DVec3, v: DVec3, horizon: f64, radius: f64) -> f64 {
+        sphere_cylinder::least_gap_on_path(self, r, v, horizon, radius)
+    }
+});
+static_kernel!(Container, ContainerLanes, sphere_container, container_may_reach {
+    fn interior(&self) -> Option<(DVec3, f64)> {
+        Some((self.centre().as_dvec3(), f64::from(self.radius())))
+    }
+    #[cfg(test)]
+    fn least_gap_on_path(&self, r: DVec3, v: DVec3, horizon: f64, radius: f64) -> f64 {
+        sphere_container::least_gap_on_path(self, r, far_end(r, v, horizon), radius)
+    }
+});
+
+/// Where a path from `r` at `v` ends after `horizon`, a long way out for an endless one.
+#[cfg(test)]
+fn far_end(r: DVec3, v: DVec3, horizon: f64) -> DVec3 {
+    if horizon.is_finite() {
+        r + v * horizon
+    } else {
+        r + v * 1e12
+    }
+}
 
 /// The box's extent along the normal straddles the plane.
 fn plane_may_reach(p: &Plane, lo: DVec3, hi: DVec3) -> bool {

@@ -1,6 +1,8 @@
 //! Spheres inside a container: `r0 = r_sphere0 − r_container`, `v = v_sphere`,
 //! `D = R_container − R_sphere`, the larger root.
 
+use glam::DVec3;
+
 use super::quadratic::{Relative3, Solver};
 use crate::Container;
 use crate::contact::Side;
@@ -49,4 +51,20 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
     // A sphere larger than its vessel is answered at once in either precision.
     let t = L::select(larger & zero.le(t_max), zero, t);
     (t, L::select(larger, zero, risk))
+}
+
+/// The unit normal of the wall towards the centre `r` (inwards) and the gap between a sphere
+/// of `radius` there and the wall: `R_K − R − |r − c_K|` (negative past the wall).
+#[inline]
+pub(crate) fn normal_gap(k: &Container, r: DVec3, radius: f64) -> (DVec3, f64) {
+    let x = r - k.centre().as_dvec3();
+    let d = x.length();
+    (-x / d, f64::from(k.radius()) - radius - d)
+}
+
+/// The least gap over the straight path from `r` to `end`: the distance from the centre is
+/// convex along a line, so the farthest point is at an end.
+#[cfg(test)]
+pub(crate) fn least_gap_on_path(k: &Container, r: DVec3, end: DVec3, radius: f64) -> f64 {
+    normal_gap(k, r, radius).1.min(normal_gap(k, end, radius).1)
 }

@@ -128,3 +128,36 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
         S::arrival(&rel, Side::Exterior, t_max)
     }
 }
+
+/// The unit direction from the cylinder's axis to the centre `r` and the gap between a sphere
+/// of `radius` there and the cylinder's surface: `|x − ŝ(x·ŝ)| − R − R_C`.
+#[inline]
+pub(crate) fn normal_gap(c: &Cylinder, r: DVec3, radius: f64) -> (DVec3, f64) {
+    let s = crate::contact::unit_axis(c);
+    let x = r - c.point().as_dvec3();
+    let radial = x - s * x.dot(s);
+    let d = radial.length();
+    (radial / d, d - radius - f64::from(c.radius()))
+}
+
+/// The least gap over the straight path `r + v t`, `t ∈ [0, horizon]` (`horizon` may be
+/// `∞`): the closest approach of the paths projected on the plane across the axis.
+#[cfg(test)]
+pub(crate) fn least_gap_on_path(
+    c: &Cylinder,
+    r: DVec3,
+    v: DVec3,
+    horizon: f64,
+    radius: f64,
+) -> f64 {
+    let s = crate::contact::unit_axis(c);
+    let perp = |u: DVec3| u - s * u.dot(s);
+    let (x, w) = (perp(r - c.point().as_dvec3()), perp(v));
+    let a = w.length_squared();
+    let t = if a > 0.0 {
+        (-x.dot(w) / a).clamp(0.0, horizon)
+    } else {
+        0.0
+    };
+    (x + w * t).length() - radius - f64::from(c.radius())
+}

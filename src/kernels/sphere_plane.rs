@@ -7,6 +7,8 @@
 //! f64 lanes subtract exactly.
 
 use super::quadratic::{Relative1, Solver};
+use glam::DVec3;
+
 use crate::Plane;
 use crate::contact::Side;
 use crate::lanes::{Lanes, V3, dot, dot_fused, dot_minus_compensated, sub};
@@ -81,4 +83,35 @@ pub fn time_of_impact<L: Lanes, S: Solver>(
         }
     };
     S::arrival(&rel, Side::Exterior, t_max)
+}
+
+/// The plane's unit normal on the side of the centre `r` and the gap between a sphere of
+/// `radius` there and the plane (negative when it cuts through): `|(r − r_P)·n̂| − R`.
+#[inline]
+pub(crate) fn normal_gap(p: &Plane, r: DVec3, radius: f64) -> (DVec3, f64) {
+    let n = crate::contact::unit_normal(p);
+    let d = (r - p.point().as_dvec3()).dot(n);
+    (n * d.signum(), d.abs() - radius)
+}
+
+/// The side of the plane the centre `r` is on (`true`: the side its normal points to).
+#[inline]
+pub(crate) fn side(p: &Plane, r: DVec3) -> bool {
+    (r - p.point().as_dvec3()).dot(crate::contact::unit_normal(p)) >= 0.0
+}
+
+/// The gap of a sphere at `r` that must stay on side `side`: `±(r − r_P)·n̂ − R`, so a
+/// centre across the plane counts the whole way back.
+#[inline]
+pub(crate) fn gap_on_side(p: &Plane, r: DVec3, radius: f64, side: bool) -> f64 {
+    let d = (r - p.point().as_dvec3()).dot(crate::contact::unit_normal(p));
+    (if side { d } else { -d }) - radius
+}
+
+/// The least gap over the straight path from `r` to `end` of a sphere on its starting side:
+/// the distance is linear along the path, so the least is at an end.
+#[cfg(test)]
+pub(crate) fn least_gap_on_path(p: &Plane, r: DVec3, end: DVec3, radius: f64) -> f64 {
+    let side = side(p, r);
+    gap_on_side(p, r, radius, side).min(gap_on_side(p, end, radius, side))
 }

@@ -3,7 +3,7 @@
 //! it is what the grid query is tested against, bit for bit (`tests/query.rs`). The f64
 //! specification of the same query is `reference::scene::first_contacts_brute_force`.
 
-use super::{ContactEvent, geometry, offer, sort_events, static_events};
+use super::{ContactEvent, StaticEvents, geometry, offer, sort_events};
 use crate::batch::{self, FirstContact, QueryOptions};
 use crate::contact::Body;
 use crate::scene::Scene;
@@ -44,15 +44,14 @@ pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstC
 ///
 /// ```
 /// use spheresweep::{QueryOptions, query};
-/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
 /// # let scene = Scene {
 /// #     spheres: SphereStore::from_spheres(&[
 /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
 /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
 /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
 /// #     ]),
-/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-/// #     ..Scene::default()
+/// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
 /// # };
 /// let options = QueryOptions::default();
 /// let events = query::brute_force::all_contacts(&scene, options);
@@ -80,9 +79,11 @@ pub fn all_contacts(scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
     }
     // The shapes are tested every sphere against every shape in the query too (no broad
     // phase there): the same function.
-    static_events(&mut events, store, &scene.planes, options);
-    static_events(&mut events, store, &scene.cylinders, options);
-    static_events(&mut events, store, &scene.containers, options);
+    scene.statics.visit(&mut StaticEvents {
+        events: &mut events,
+        store,
+        options,
+    });
     sort_events(&mut events);
     if options.geometry() {
         for e in &mut events {

@@ -107,7 +107,7 @@ pub fn estimate(scene: &Scene, options: QueryOptions, every_contact: bool) -> Es
         ((degrees as f64) * (n as f64) / (2.0 * rows.len() as f64)).round() as u64
     };
     let contacts = if every_contact {
-        let shapes = scene.planes.len() + scene.cylinders.len() + scene.containers.len();
+        let shapes = scene.statics.len();
         touching_share(store, &rows, options, candidate_pairs) + (n as u64) * (shapes as u64)
     } else {
         0
@@ -175,8 +175,8 @@ mod tests {
             .collect();
         Scene {
             spheres: SphereStore::from_spheres(&spheres),
-            planes: vec![Plane::new([0.0; 3], [0.0, 0.0, 1.0]).expect("valid")],
-            ..Scene::default()
+            statics: crate::Statics::new()
+                .with(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).expect("valid"), ()),
         }
     }
 

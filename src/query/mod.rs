@@ -25,6 +25,7 @@ use crate::broad::{Grid, GridOptions};
 use crate::contact::{Body, Contact, contact_at};
 use crate::scene::Scene;
 use crate::shape::ShapeKind;
+use crate::statics::{OfKind, Visitor};
 use crate::store::{PackedSpheres, SphereStore};
 
 /// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
@@ -32,15 +33,14 @@ use crate::store::{PackedSpheres, SphereStore};
 ///
 /// ```
 /// use spheresweep::{Body, QueryOptions, ShapeKind, query::all_contacts};
-/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
 /// # let scene = Scene {
 /// #     spheres: SphereStore::from_spheres(&[
 /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
 /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
 /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
 /// #     ]),
-/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-/// #     ..Scene::default()
+/// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
 /// # };
 /// let events = all_contacts(&scene, QueryOptions::default());
 /// assert_eq!(events.len(), 2);
@@ -64,15 +64,14 @@ pub struct ContactEvent {
 ///
 /// ```
 /// use spheresweep::{Accuracy, QueryOptions, query::SceneQuery};
-/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
 /// # let scene = Scene {
 /// #     spheres: SphereStore::from_spheres(&[
 /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
 /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
 /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
 /// #     ]),
-/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-/// #     ..Scene::default()
+/// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
 /// # };
 /// let mut query = SceneQuery::new();
 /// query.first_contacts(&scene, QueryOptions::new(10.0, Accuracy::Stable)?);
@@ -125,15 +124,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{QueryOptions, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let mut query = SceneQuery::new();
     /// let hits = query.first_contacts(&scene, QueryOptions::default());
@@ -148,15 +146,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{Accuracy, QueryOptions, broad::GridOptions, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let grid = GridOptions { cell_size: Some(16.0), ..GridOptions::default() };
     /// let mut query = SceneQuery::with_grid_options(grid);
@@ -175,15 +172,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{QueryOptions, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let mut query = SceneQuery::new();
     /// query.all_contacts(&scene, QueryOptions::default()); // an infinite window: no grid
@@ -199,15 +195,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{Body, QueryOptions, ShapeKind, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let options = QueryOptions::default().with_geometry(true);
     /// let hits = SceneQuery::new().first_contacts(&scene, options);
@@ -232,15 +227,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{QueryOptions, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let (mut query, mut hits) = (SceneQuery::new(), Vec::new());
     /// for _ in 0..2 {
@@ -291,9 +285,11 @@ impl SceneQuery {
             }
         }
         let times_only = options.with_geometry(false);
-        merge_static(best, &scene.spheres, &scene.planes, times_only);
-        merge_static(best, &scene.spheres, &scene.cylinders, times_only);
-        merge_static(best, &scene.spheres, &scene.containers, times_only);
+        scene.statics.visit(&mut MergeStatic {
+            best,
+            store: &scene.spheres,
+            options: times_only,
+        });
         if options.geometry() {
             for (i, slot) in best.iter_mut().enumerate() {
                 if let Some(hit) = slot {
@@ -308,15 +304,14 @@ impl SceneQuery {
     ///
     /// ```
     /// use spheresweep::{QueryOptions, ShapeKind, query::SceneQuery};
-    /// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+    /// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
     /// # let scene = Scene {
     /// #     spheres: SphereStore::from_spheres(&[
     /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
     /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
     /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
     /// #     ]),
-    /// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-    /// #     ..Scene::default()
+    /// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
     /// # };
     /// let events = SceneQuery::new().all_contacts(&scene, QueryOptions::default());
     /// let kinds: Vec<_> = events.iter().map(|e| (e.time, e.sphere, e.other.kind)).collect();
@@ -340,10 +335,11 @@ impl SceneQuery {
                 }
             })
             .collect();
-        let store = &scene.spheres;
-        static_events(&mut events, store, &scene.planes, options);
-        static_events(&mut events, store, &scene.cylinders, options);
-        static_events(&mut events, store, &scene.containers, options);
+        scene.statics.visit(&mut StaticEvents {
+            events: &mut events,
+            store: &scene.spheres,
+            options,
+        });
         sort_events(&mut events);
         if options.geometry() {
             for e in &mut events {
@@ -426,22 +422,37 @@ fn offer(slot: &mut Option<FirstContact>, time: f32, body: Body) {
     }
 }
 
-fn merge_static<K: StaticShape>(
-    best: &mut [Option<FirstContact>],
-    store: &SphereStore,
-    shapes: &[K],
+/// Each sphere's earliest contact with each kind of static shape, offered to its slot.
+struct MergeStatic<'a> {
+    best: &'a mut [Option<FirstContact>],
+    store: &'a SphereStore,
     options: QueryOptions,
-) {
-    if shapes.is_empty() {
-        return;
-    }
-    for (slot, hit) in best
-        .iter_mut()
-        .zip(batch::earliest_static_contacts(store, shapes, options))
-    {
-        if let Some(hit) = hit {
-            offer(slot, hit.time, hit.body);
+}
+
+impl<P> Visitor<P> for MergeStatic<'_> {
+    fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
+        if shapes.is_empty() {
+            return;
         }
+        let hits = batch::earliest_static_contacts(self.store, shapes.shapes(), self.options);
+        for (slot, hit) in self.best.iter_mut().zip(hits) {
+            if let Some(hit) = hit {
+                offer(slot, hit.time, hit.body);
+            }
+        }
+    }
+}
+
+/// Every contact of every sphere with every static shape in the window, appended.
+pub(crate) struct StaticEvents<'a> {
+    pub events: &'a mut Vec<ContactEvent>,
+    pub store: &'a SphereStore,
+    pub options: QueryOptions,
+}
+
+impl<P> Visitor<P> for StaticEvents<'_> {
+    fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
+        static_events(self.events, self.store, shapes.shapes(), self.options);
     }
 }
 
@@ -506,15 +517,14 @@ pub fn first_contacts(scene: &Scene, options: QueryOptions) -> Vec<Option<FirstC
 ///
 /// ```
 /// use spheresweep::{QueryOptions, query::{SceneQuery, all_contacts}};
-/// # use spheresweep::{Plane, Sphere, SphereStore, scene::Scene};
+/// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
 /// # let scene = Scene {
 /// #     spheres: SphereStore::from_spheres(&[
 /// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
 /// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
 /// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
 /// #     ]),
-/// #     planes: vec![Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?],
-/// #     ..Scene::default()
+/// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
 /// # };
 /// let options = QueryOptions::default();
 /// assert_eq!(all_contacts(&scene, options), SceneQuery::new().all_contacts(&scene, options));

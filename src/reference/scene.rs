@@ -17,18 +17,9 @@ use crate::shape::{Shape, ShapeKind};
 /// ```
 pub fn first_contacts_brute_force(scene: &Scene, t_max: f64) -> Vec<Option<(Body, Contact)>> {
     let spheres = scene.spheres.to_spheres();
-    let bodies: Vec<(Body, Shape)> = (spheres.iter().copied().map(Shape::Sphere))
-        .chain(scene.planes.iter().copied().map(Shape::Plane))
-        .chain(scene.cylinders.iter().copied().map(Shape::Cylinder))
-        .chain(scene.containers.iter().copied().map(Shape::Container))
-        .scan([0u32; 4], |counts, shape| {
-            let k = ShapeKind::ALL
-                .iter()
-                .position(|&k| k == shape.kind())
-                .expect("every kind is listed");
-            counts[k] += 1;
-            Some((Body::new(shape.kind(), counts[k] - 1), shape))
-        })
+    let bodies: Vec<(Body, Shape)> = (spheres.iter().enumerate())
+        .map(|(i, &s)| (Body::new(ShapeKind::Sphere, i as u32), Shape::Sphere(s)))
+        .chain(scene.statics.iter().map(|(b, s, ())| (b, s.into())))
         .collect();
     spheres
         .iter()

@@ -1,14 +1,14 @@
 //! The built-in scene of `spheresweep demo`: a vessel with a floor, a pillar and a few balls.
 
 use super::Scene;
-use crate::{Container, Cylinder, Plane, Sphere, SphereStore};
+use crate::{Container, Cylinder, Plane, Sphere, SphereStore, Statics};
 
 /// A small scene with every pair kind: nine spheres in a vessel of radius 10, a floor at
 /// `z = −4` and a pillar of radius 1 along `z` through `(3, 0)`.
 ///
 /// ```
 /// let scene = spheresweep::scene::demo();
-/// assert_eq!((scene.spheres.len(), scene.planes.len()), (9, 1));
+/// assert_eq!((scene.spheres.len(), scene.statics.len()), (9, 3));
 /// ```
 pub fn demo() -> Scene {
     let sphere = |c: [f32; 3], v: [f32; 3], r: f32| {
@@ -34,10 +34,15 @@ pub fn demo() -> Scene {
             // Drifting slowly in open space: nothing within the window.
             sphere([0.0, 5.0, -2.0], [0.1, 0.0, 0.0], 0.5),
         ]),
-        planes: vec![Plane::new([0.0, 0.0, -4.0], [0.0, 0.0, 1.0]).expect("valid floor")],
-        cylinders: vec![
-            Cylinder::new([3.0, 0.0, 0.0], [3.0, 0.0, 1.0], 1.0).expect("valid pillar"),
-        ],
-        containers: vec![Container::new([0.0; 3], 10.0).expect("valid vessel")],
+        statics: Statics::new()
+            .with(
+                Plane::new([0.0, 0.0, -4.0], [0.0, 0.0, 1.0]).expect("valid floor"),
+                (),
+            )
+            .with(
+                Cylinder::new([3.0, 0.0, 0.0], [3.0, 0.0, 1.0], 1.0).expect("valid pillar"),
+                (),
+            )
+            .with(Container::new([0.0; 3], 10.0).expect("valid vessel"), ()),
     }
 }

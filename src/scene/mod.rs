@@ -1,23 +1,22 @@
-//! Scenes: a store of spheres and the static shapes around them, all validated. For now, the
-//! built-in demonstration scene; loading from files comes with the scene-file issue.
+//! Scenes: a store of spheres and the static shapes around them, all validated, and the
+//! built-in demonstration scene.
 
 mod demo;
 
 pub use demo::demo;
 
-use crate::{Container, Cylinder, Plane, Shape, SphereStore};
+use crate::{Shape, SphereStore, Statics};
 
 /// Every body of a scene, validated. The spheres live in a [`SphereStore`], so a query reads
 /// them as they are and builds nothing per call.
 ///
 /// ```
-/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, query, scene::Scene};
+/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, Statics, query, scene::Scene};
 /// let scene = Scene {
 ///     spheres: SphereStore::from_spheres(&[
 ///         Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0)?,
 ///     ]),
-///     planes: vec![Plane::new([0.0; 3], [0.0, 0.0, 1.0])?],
-///     ..Scene::default()
+///     statics: Statics::new().with(Plane::new([0.0; 3], [0.0, 0.0, 1.0])?, ()),
 /// };
 /// assert_eq!(query::first_contacts(&scene, QueryOptions::default())[0].unwrap().time, 2.0);
 /// # Ok::<(), spheresweep::Error>(())
@@ -26,12 +25,9 @@ use crate::{Container, Cylinder, Plane, Shape, SphereStore};
 pub struct Scene {
     /// Moving spheres.
     pub spheres: SphereStore,
-    /// Static infinite planes.
-    pub planes: Vec<Plane>,
-    /// Static infinite cylinders.
-    pub cylinders: Vec<Cylinder>,
-    /// Static spherical containers (every sphere is inside each of them).
-    pub containers: Vec<Container>,
+    /// The static shapes: planes, infinite cylinders, containers (every sphere is inside
+    /// each container).
+    pub statics: Statics,
 }
 
 impl Scene {
@@ -43,13 +39,9 @@ impl Scene {
     /// assert!(matches!(scene.body(Body::new(ShapeKind::Plane, 0)), Some(Shape::Plane(_))));
     /// ```
     pub fn body(&self, body: crate::Body) -> Option<Shape> {
-        use crate::ShapeKind;
-        let i = body.index as usize;
         match body.kind {
-            ShapeKind::Sphere => self.spheres.get(i).map(Shape::Sphere),
-            ShapeKind::Plane => self.planes.get(i).copied().map(Shape::Plane),
-            ShapeKind::Cylinder => self.cylinders.get(i).copied().map(Shape::Cylinder),
-            ShapeKind::Container => self.containers.get(i).copied().map(Shape::Container),
+            crate::ShapeKind::Sphere => self.spheres.get(body.index as usize).map(Shape::Sphere),
+            _ => self.statics.get(body).map(|(s, ())| s.into()),
         }
     }
 }

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use super::generate;
-use super::{Effects, Fixed, MaterialPair, Response, World};
-use crate::{Container, Cylinder, Plane};
+use super::{Effects, MaterialPair, Response, World};
+use crate::{Container, Cylinder, Plane, Statics};
 
 /// Radius of the vessel, centred at the origin.
 const VESSEL: f64 = 16.0;
@@ -42,11 +42,12 @@ const SEED: u64 = 2016;
 ///
 /// ```
 /// use spheresweep::sim::{Response, Simulation, demo_world};
+/// use spheresweep::{Cylinder, Plane};
 /// let world = demo_world();
 /// assert_eq!(world.spheres.len(), 4000);
 /// assert_eq!(world.materials, ["glass", "glue", "steel", "floor"]);
 /// assert_eq!((world.spheres[8].material, world.spheres[9].material), (1, 0)); // glue, glass
-/// assert_eq!((world.planes.len(), world.cylinders.len(), world.containers.len()), (1, 3, 1));
+/// assert_eq!((world.statics.of::<Plane>().len(), world.statics.of::<Cylinder>().len()), (1, 3));
 /// assert_eq!(world, demo_world()); // deterministic
 ///
 /// let mut sim = Simulation::new(world)?;
@@ -88,26 +89,26 @@ pub fn demo_world() -> World {
     for s in spheres.iter_mut().step_by(GLUE_EVERY) {
         s.material = glue;
     }
-    let vertical = |c: &DVec3| Fixed {
-        shape: Cylinder::new(
+    let mut statics = Statics::new();
+    statics.push(
+        Plane::new([0.0, 0.0, FLOOR as f32], [0.0, 0.0, 1.0]).expect("a valid floor"),
+        floor,
+    );
+    for c in &pillars {
+        let pillar = Cylinder::new(
             [c.x as f32, c.y as f32, 0.0],
             [c.x as f32, c.y as f32, 1.0],
             PILLAR as f32,
-        )
-        .expect("a valid pillar"),
-        material: steel,
-    };
+        );
+        statics.push(pillar.expect("a valid pillar"), steel);
+    }
+    statics.push(
+        Container::new([0.0; 3], VESSEL as f32).expect("a valid vessel"),
+        steel,
+    );
     World {
         spheres,
-        planes: vec![Fixed {
-            shape: Plane::new([0.0, 0.0, FLOOR as f32], [0.0, 0.0, 1.0]).expect("a valid floor"),
-            material: floor,
-        }],
-        cylinders: pillars.iter().map(vertical).collect(),
-        containers: vec![Fixed {
-            shape: Container::new([0.0; 3], VESSEL as f32).expect("a valid vessel"),
-            material: steel,
-        }],
+        statics,
         materials: ["glass", "glue", "steel", "floor"]
             .map(String::from)
             .to_vec(),

@@ -13,20 +13,16 @@
 //! and normal in the event log), so a scene without them runs none of their code.
 
 use glam::DVec3;
-use wide::f64x4;
 
 use super::cells::{Cells, NONE};
 use super::checkpoint::{Decoder, Encoder};
 use super::predict::{PairBatch, refine};
 use super::queue::{Calendar, Entry};
 use super::response::{Body as Dyn, Motion, Outcome, Responder, Wall};
-use super::{EventRecord, KernelCounts, SimError, Stats};
-use crate::contact::{Body, unit_axis, unit_normal};
-use crate::kernels::StaticKernel;
-use crate::kernels::quadratic::Stable;
+use super::{EventRecord, SimError, Stats};
+use crate::contact::Body;
 use crate::shape::ShapeKind;
-use crate::store::SphereLanes;
-use crate::{Container, Cylinder, Plane};
+use crate::statics::Statics;
 
 /// The largest counter a checkpoint may hold (2⁶⁰: 36 years at 10⁹ events a second); a larger
 /// one is damage, refused at load rather than overflowing later.
@@ -161,150 +157,6 @@ impl Best {
     }
 }
 
-/// The static shapes, prepared once for the f64 kernels, with their materials.
-#[derive(Debug, Default)]
-pub(crate) struct Walls {
-    pub planes: Vec<(Plane, u16)>,
-    pub cylinders: Vec<(Cylinder, u16)>,
-    pub containers: Vec<(Container, u16)>,
-    prepared_planes: Vec<<Plane as StaticKernel>::Lanes<f64x4>>,
-    prepared_cylinders: Vec<<Cylinder as StaticKernel>::Lanes<f64x4>>,
-    prepared_containers: Vec<<Container as StaticKernel>::Lanes<f64x4>>,
-}
-
-impl Walls {
-    pub fn new(
-        planes: Vec<(Plane, u16)>,
-        cylinders: Vec<(Cylinder, u16)>,
-        containers: Vec<(Container, u16)>,
-    ) -> Self {
-        Self {
-            prepared_planes: planes.iter().map(|p| p.0.prepare()).collect(),
-            prepared_cylinders: cylinders.iter().map(|p| p.0.prepare()).collect(),
-            prepared_containers: containers.iter().map(|p| p.0.prepare()).collect(),
-            planes,
-            cylinders,
-            containers,
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.planes.is_empty() && self.cylinders.is_empty() && self.containers.is_empty()
-    }
-
-    /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape,
-    /// in f64 (the `Stable` kernels on `f64x4`, one lane used).
-    fn earliest(&self, r: DVec3, v: DVec3, radius: f64, counts: &mut KernelCounts) -> (f64, Body) {
-        let s = SphereLanes::<f64x4> {
-            c: [r.x, r.y, r.z].map(f64x4::splat),
-            v: [v.x, v.y, v.z].map(f64x4::splat),
-            r: f64x4::splat(radius),
-        };
-        let t_max = f64x4::splat(f64::INFINITY);
-        let mut best = (f64::INFINITY, Body::new(ShapeKind::Plane, 0));
-        let mut take = |t: f64x4, kind, k: usize| {
-            let t = t.to_array()[0];
-            if t < best.0 {
-                best = (t, Body::new(kind, k as u32));
-            }
-        };
-        for (k, p) in self.prepared_planes.iter().enumerate() {
-            take(
-                Plane::raw::<f64x4, Stable>(&s, p, t_max).0,
-                ShapeKind::Plane,
-                k,
-            );
-        }
-        for (k, p) in self.prepared_cylinders.iter().enumerate() {
-            take(
-                Cylinder::raw::<f64x4, Stable>(&s, p, t_max).0,
-                ShapeKind::Cylinder,
-                k,
-            );
-        }
-        for (k, p) in self.prepared_containers.iter().enumerate() {
-            take(
-                Container::raw::<f64x4, Stable>(&s, p, t_max).0,
-                ShapeKind::Container,
-                k,
-            );
-        }
-        counts.plane += self.planes.len() as u64;
-        counts.cylinder += self.cylinders.len() as u64;
-        counts.container += self.containers.len() as u64;
-        best
-    }
-
-    /// Unit normal from the shape towards the sphere centre `r`, the signed gap (negative when
-    /// the sphere is through the shape) and the shape's material.
-    pub fn normal_gap(&self, body: Body, r: DVec3, radius: f64) -> (DVec3, f64, u16) {
-        let k = body.index as usize;
-        match body.kind {
-            ShapeKind::Plane => {
-                let (p, m) = &self.planes[k];
-                let n = unit_normal(p);
-                let d = (r - p.point().as_dvec3()).dot(n);
-                (n * d.signum(), d.abs() - radius, *m)
-            }
-            ShapeKind::Cylinder => {
-                let (c, m) = &self.cylinders[k];
-                let s = unit_axis(c);
-                let x = r - c.point().as_dvec3();
-                let radial = x - s * x.dot(s);
-                let d = radial.length();
-                (radial / d, d - radius - f64::from(c.radius()), *m)
-            }
-            ShapeKind::Container | ShapeKind::Sphere => {
-                let (c, m) = &self.containers[k];
-                let x = r - c.centre().as_dvec3();
-                let d = x.length();
-                (-x / d, f64::from(c.radius()) - radius - d, *m)
-            }
-        }
-    }
-
-    /// Fault injection only: whether a sphere is at or past container `body`'s wall moving
-    /// inwards (the case the old policy answered as no contact when it never got back in).
-    pub fn past_and_inwards(&self, body: Body, r: DVec3, v: DVec3, radius: f64) -> bool {
-        if body.kind != ShapeKind::Container {
-            return false;
-        }
-        let c = &self.containers[body.index as usize].0;
-        let x = r - c.centre().as_dvec3();
-        let d = f64::from(c.radius()) - radius;
-        x.length_squared() >= d * d && x.dot(v) < 0.0
-    }
-
-    /// The least angle (its sine) at which a sphere of `radius`, `gap` from the wall `body` (negative
-    /// when past it), moving at `speed`, may leave it at time `now`: `0` for a plane or a
-    /// cylinder (convex: a straight line that leaves one never meets it again). For a container
-    /// `κ² = 2⁻²⁴ + 2⁻⁴⁴ (‖c‖ + D + speed·now) / D`, far above the rounding of the kernel's `C`
-    /// at the wall, and at least `2 √(2 depth / D)` for a sphere `depth` past the wall, so that
-    /// its line leads back inside (docs/derivations/simulation.md, "Concave walls").
-    pub fn floor(&self, body: Body, radius: f64, gap: f64, speed: f64, now: f64) -> f64 {
-        if body.kind != ShapeKind::Container {
-            return 0.0;
-        }
-        let c = &self.containers[body.index as usize].0;
-        let d = f64::from(c.radius()) - radius;
-        if d <= 0.0 {
-            // A sphere that fits exactly (or not at all) can only go straight back.
-            return 1.0;
-        }
-        let scale = (c.centre().as_dvec3().length() + d + speed * now.abs()) / d;
-        let base = (WALL_FLOOR_SQUARED + WALL_FLOOR_ROUNDING * scale).sqrt();
-        let depth = (-gap).max(0.0);
-        base.max(2.0 * (2.0 * depth / d).sqrt()).min(1.0)
-    }
-}
-
-/// `κ²` of a container's floor angle where rounding does not matter: `2⁻²⁴` (the sphere leaves
-/// at `2⁻¹²` rad, about 0.014°, or more).
-const WALL_FLOOR_SQUARED: f64 = 1.0 / (1u64 << 24) as f64;
-/// What rounding adds to `κ²`, per unit of `(‖c‖ + D + speed·now) / D`: `2⁻⁴⁴`, 2⁸ times the
-/// bound on the kernel's relative error in `C` at the wall.
-const WALL_FLOOR_ROUNDING: f64 = 1.0 / (1u64 << 44) as f64;
-
 /// Everything that is not the response: the engine state.
 pub(crate) struct Engine<
     R: Responder,
@@ -318,7 +170,7 @@ pub(crate) struct Engine<
     pub cells: Cells,
     queue: Calendar,
     pub now: f64,
-    pub walls: Walls,
+    pub walls: Statics<u16>,
     pub responder: R,
     pub stats: Stats,
     pub log: Option<Vec<EventRecord>>,
@@ -388,7 +240,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     Engine<R, PERIODIC, WALLS, GEOMETRY>
 {
     /// Assembles the engine at time 0 and predicts every sphere.
-    pub fn new(m: Motion, cells: Cells, walls: Walls, responder: R, log: bool) -> Self {
+    pub fn new(m: Motion, cells: Cells, walls: Statics<u16>, responder: R, log: bool) -> Self {
         let n = m.bodies.len();
         let mut e = Self {
             best: vec![Best::default(); n],
@@ -969,54 +821,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             // so their deepest point is at an end of the interval; a cylinder's perpendicular
             // distance is the closest approach of the projected lines.
             let horizon = ti.max(0.0);
-            let end = if horizon.is_finite() {
-                ri + bi.v * horizon
-            } else {
-                ri + bi.v * 1e12
-            };
             let tolerance = OVERLAP_TOLERANCE * bi.radius;
-            for (k, (p, _)) in self.walls.planes.iter().enumerate() {
-                let nrm = unit_normal(p);
-                let (d0, d1) = (
-                    (ri - p.point().as_dvec3()).dot(nrm),
-                    (end - p.point().as_dvec3()).dot(nrm),
-                );
-                let depth = if d0 >= 0.0 {
-                    bi.radius - d0.min(d1)
-                } else {
-                    bi.radius + d0.max(d1)
-                };
-                assert!(
-                    depth <= tolerance,
-                    "after the event of sphere {s} at t = {}: sphere {i} gets {depth:e} through \
-                     plane {k} before its next event at {}",
-                    self.now,
-                    self.scheduled[i]
-                );
-            }
-            for (k, (c, _)) in self.walls.cylinders.iter().enumerate() {
-                let axis = unit_axis(c);
-                let x = ri - c.point().as_dvec3();
-                let perp = |u: DVec3| u - axis * u.dot(axis);
-                let gap = closest(perp(x), perp(bi.v), horizon) - bi.radius - f64::from(c.radius());
+            for (body, shape, _) in self.walls.iter() {
+                let gap = shape.least_gap_on_path(ri, bi.v, horizon, bi.radius);
                 assert!(
                     -gap <= tolerance,
                     "after the event of sphere {s} at t = {}: sphere {i} gets {:e} through \
-                     cylinder {k} before its next event at {}",
+                     {body} before its next event at {}",
                     self.now,
                     -gap,
-                    self.scheduled[i]
-                );
-            }
-            for (k, (c, _)) in self.walls.containers.iter().enumerate() {
-                let centre = c.centre().as_dvec3();
-                let out = (ri - centre).length().max((end - centre).length()) + bi.radius
-                    - f64::from(c.radius());
-                assert!(
-                    out <= tolerance,
-                    "after the event of sphere {s} at t = {}: sphere {i} gets {out:e} past the \
-                     wall of container {k} before its next event at {}",
-                    self.now,
                     self.scheduled[i]
                 );
             }
@@ -1203,12 +1016,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 k => return Err(bad(format!("sphere {id}: static shape kind {k}"))),
             };
             b.wall = Body::new(kind, d.u32()?);
-            let shapes = match kind {
-                ShapeKind::Plane => self.walls.planes.len(),
-                ShapeKind::Cylinder => self.walls.cylinders.len(),
-                _ => self.walls.containers.len(),
-            };
-            if b.wall_t != f64::INFINITY && b.wall.index as usize >= shapes {
+            if b.wall_t != f64::INFINITY && self.walls.get(b.wall).is_none() {
                 return Err(bad(format!("sphere {id}: {} does not exist", b.wall)));
             }
             b.cross_t = d.f64()?;

@@ -11,10 +11,10 @@
 
 use super::OVERLAP_TOLERANCE;
 use super::cells::Cells;
-use super::engine::Walls;
 use super::response::Body as Dyn;
 use crate::ShapeKind;
-use crate::contact::{Body, unit_normal};
+use crate::contact::Body;
+use crate::statics::Statics;
 
 /// The largest overlaps a check found, each relative to its tolerance (`1` is the limit).
 ///
@@ -52,27 +52,25 @@ pub(crate) struct Breach {
     pub tolerance: f64,
 }
 
-/// Which side of each plane each sphere is on (`true`: the side the normal points to), `planes`
-/// entries per sphere.
-pub(crate) fn plane_sides(bodies: &[Dyn], walls: &Walls) -> Vec<bool> {
-    let mut sides = Vec::with_capacity(bodies.len() * walls.planes.len());
+/// Which side of each static shape each sphere is on ([`crate::Static::side`]: for a plane,
+/// `true` on the side the normal points to), `walls.len()` entries per sphere.
+pub(crate) fn sides(bodies: &[Dyn], walls: &Statics<u16>) -> Vec<bool> {
+    let mut sides = Vec::with_capacity(bodies.len() * walls.len());
     for b in bodies {
-        for (p, _) in &walls.planes {
-            sides.push((b.r - p.point().as_dvec3()).dot(unit_normal(p)) >= 0.0);
-        }
+        sides.extend(walls.iter().map(|(_, shape, _)| shape.side(b.r)));
     }
     sides
 }
 
 /// Checks `bodies` (centres at one common time) against the invariant: the deepest overlaps
 /// found, relative to their tolerances, or the first breach. `sides` holds each sphere's side
-/// of each plane at the start ([`plane_sides`]), in the same order as `bodies`; empty to skip
-/// that check.
+/// of each shape at the start ([`sides`]), in the same order as `bodies`; empty to take the
+/// side each sphere is on now.
 pub(crate) fn check(
     bodies: &[Dyn],
     cells: &Cells,
     periodic: bool,
-    walls: &Walls,
+    walls: &Statics<u16>,
     sides: &[bool],
 ) -> Result<(f64, f64), Breach> {
     let pairs = check_pairs(bodies, cells, periodic)?;
@@ -151,38 +149,28 @@ fn neighbour(cells: &Cells, c: [i32; 3], offset: usize, periodic: bool) -> Optio
 }
 
 /// Every sphere against every static shape.
-fn check_walls(bodies: &[Dyn], walls: &Walls, sides: &[bool]) -> Result<f64, Breach> {
+fn check_walls(bodies: &[Dyn], walls: &Statics<u16>, sides: &[bool]) -> Result<f64, Breach> {
     let mut worst = f64::NEG_INFINITY;
-    let planes = walls.planes.len();
+    let count = walls.len();
     for (i, b) in bodies.iter().enumerate() {
         let tolerance = OVERLAP_TOLERANCE * b.radius;
-        let mut take = |other: Body, depth: f64| {
+        for (k, (body, shape, _)) in walls.iter().enumerate() {
+            let side = sides
+                .get(i * count + k)
+                .copied()
+                .unwrap_or_else(|| shape.side(b.r));
+            // On its own side of a plane: `radius − |d|` deep; across: the whole way back.
+            let depth = -shape.gap_on_side(b.r, b.radius, side);
             if depth <= tolerance {
                 worst = worst.max(depth / tolerance);
-                Ok(())
             } else {
-                Err(Breach {
+                return Err(Breach {
                     sphere: i,
-                    other,
+                    other: body,
                     depth,
                     tolerance,
-                })
+                });
             }
-        };
-        for (k, (p, _)) in walls.planes.iter().enumerate() {
-            let d = (b.r - p.point().as_dvec3()).dot(unit_normal(p));
-            let side = sides.get(i * planes + k).copied().unwrap_or(d >= 0.0);
-            // On its own side: `radius − |d|` deep; across: the whole way back.
-            let signed = if side { d } else { -d };
-            take(Body::new(ShapeKind::Plane, k as u32), b.radius - signed)?;
-        }
-        for k in 0..walls.cylinders.len() {
-            let body = Body::new(ShapeKind::Cylinder, k as u32);
-            take(body, -walls.normal_gap(body, b.r, b.radius).1)?;
-        }
-        for k in 0..walls.containers.len() {
-            let body = Body::new(ShapeKind::Container, k as u32);
-            take(body, -walls.normal_gap(body, b.r, b.radius).1)?;
         }
     }
     Ok(worst)
@@ -211,16 +199,14 @@ mod tests {
     /// Each breach is found and named, and the measures are relative to the tolerances.
     #[test]
     fn breaches_are_found_and_named() {
-        let walls = Walls::new(
-            vec![(Plane::new([0.0, 0.0, 2.0], [0.0, 0.0, 1.0]).unwrap(), 0)],
-            vec![],
-            vec![(Container::new([5.0; 3], 4.0).unwrap(), 0)],
-        );
+        let walls = Statics::new()
+            .with(Plane::new([0.0, 0.0, 2.0], [0.0, 0.0, 1.0]).unwrap(), 0)
+            .with(Container::new([5.0; 3], 4.0).unwrap(), 0);
         let apart = [
             body(DVec3::new(5.0, 5.0, 6.0), 0.5),
             body(DVec3::new(6.0, 5.0, 6.0), 0.5),
         ];
-        let sides = plane_sides(&apart, &walls);
+        let sides = sides(&apart, &walls);
         let (pairs, w) = check(&apart, &grid(2), false, &walls, &sides).unwrap();
         assert_eq!(pairs, 0.0); // touching exactly
         assert!(w <= 0.0, "{w}");
@@ -247,7 +233,7 @@ mod tests {
     /// Pairs across a periodic box's faces and in far cells of an open grid are found.
     #[test]
     fn neighbours_across_faces_and_beyond_the_grid_are_found() {
-        let none = Walls::default();
+        let none = Statics::default();
         let wrap = [
             body(DVec3::new(0.2, 5.0, 5.0), 0.5),
             body(DVec3::new(9.3, 5.0, 5.0), 0.5),

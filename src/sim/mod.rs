@@ -29,18 +29,20 @@ mod model;
 mod predict;
 mod queue;
 mod response;
+mod walls;
 
 pub use demo::demo_world;
 pub use invariant::InvariantReport;
 pub use model::{
-    Boundary, Effects, Fixed, MAX_MATERIALS, MaterialPair, Response, SimError, SphereState, World,
+    Boundary, Effects, MAX_MATERIALS, MaterialPair, Response, SimError, SphereState, World,
 };
 
 use glam::DVec3;
 
 use crate::contact::Body;
+use crate::statics::Statics;
 use cells::Cells;
-use engine::{Engine, Walls};
+use engine::Engine;
 use response::{Elastic, Materials, Motion, Outcome, ReportOnly, Responder};
 
 /// Overlap beyond which the engine refuses a start state, relative to the contact distance
@@ -261,7 +263,7 @@ trait Run: Send {
     ) -> Result<(), SimError>;
     /// The grid (its geometry: the invariant check sorts positions by it), the shapes, and
     /// whether the box is periodic and the response only reports.
-    fn layout(&self) -> (&Cells, &Walls, bool, bool);
+    fn layout(&self) -> (&Cells, &Statics<u16>, bool, bool);
     fn break_walls(&mut self);
     fn set_velocities(&mut self, v: &[DVec3]) -> Result<(), SimError>;
     /// Periodic image counts in public order (empty outside a periodic box).
@@ -332,7 +334,7 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
     ) -> Result<(), SimError> {
         Engine::load(self, d, masses, materials)
     }
-    fn layout(&self) -> (&Cells, &Walls, bool, bool) {
+    fn layout(&self) -> (&Cells, &Statics<u16>, bool, bool) {
         (&self.cells, &self.walls, P, R::REPORT_ONLY)
     }
     fn break_walls(&mut self) {
@@ -503,8 +505,7 @@ impl Simulation {
                     lo = lo.min(s.centre - s.radius);
                     hi = hi.max(s.centre + s.radius);
                 }
-                for c in &world.containers {
-                    let (k, r) = (c.shape.centre().as_dvec3(), f64::from(c.shape.radius()));
+                for (k, r) in world.statics.iter().filter_map(|(_, s, _)| s.interior()) {
                     lo = lo.min(k - r);
                     hi = hi.max(k + r);
                 }
@@ -535,21 +536,9 @@ impl Simulation {
                 radius: s.radius,
             });
         }
-        let walls = Walls::new(
-            world.planes.iter().map(|p| (p.shape, p.material)).collect(),
-            world
-                .cylinders
-                .iter()
-                .map(|p| (p.shape, p.material))
-                .collect(),
-            world
-                .containers
-                .iter()
-                .map(|p| (p.shape, p.material))
-                .collect(),
-        );
+        let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
-        let sides = invariant::plane_sides(&m.bodies, &walls);
+        let sides = invariant::sides(&m.bodies, &walls);
         // Which response the spheres and shapes actually in the scene call for.
         let count = world.materials.len().max(1);
         let mut table = vec![world.effects.response; count * count];
@@ -562,9 +551,7 @@ impl Simulation {
         for &mat in m
             .material
             .iter()
-            .chain(world.planes.iter().map(|p| &p.material))
-            .chain(world.cylinders.iter().map(|p| &p.material))
-            .chain(world.containers.iter().map(|p| &p.material))
+            .chain(world.statics.iter().map(|(_, _, m)| m))
         {
             used[usize::from(mat)] = true;
         }
@@ -749,8 +736,8 @@ impl Simulation {
     ///
     /// ```
     /// # use glam::DVec3;
-    /// use spheresweep::sim::{Effects, Fixed, Response, Simulation, SphereState, World};
-    /// use spheresweep::Container;
+    /// use spheresweep::sim::{Effects, Response, Simulation, SphereState, World};
+    /// use spheresweep::{Container, Statics};
     /// // One inelastic sphere in a vessel: its bounces decay until it slides along the wall.
     /// let world = World {
     ///     spheres: vec![SphereState {
@@ -760,7 +747,7 @@ impl Simulation {
     ///         mass: 1.0,
     ///         material: 0,
     ///     }],
-    ///     containers: vec![Fixed { shape: Container::new([0.0; 3], 6.0)?, material: 0 }],
+    ///     statics: Statics::new().with(Container::new([0.0; 3], 6.0)?, 0),
     ///     effects: Effects { response: Response::Inelastic { restitution: 0.3 }, ..Effects::default() },
     ///     ..World::default()
     /// };
@@ -1253,11 +1240,9 @@ fn world_fingerprint(w: &World) -> u64 {
         .map(|s| (s.radius.to_bits(), s.mass.to_bits(), s.material))
         .collect();
     checkpoint::fingerprint(&format!(
-        "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+        "{:?}{:?}{:?}{:?}{:?}",
         per_sphere,
-        w.planes,
-        w.cylinders,
-        w.containers,
+        w.statics,
         w.boundary,
         w.materials,
         Effects {
@@ -1270,7 +1255,12 @@ fn world_fingerprint(w: &World) -> u64 {
 
 /// No two spheres overlap, and no sphere is through a shape, beyond the tolerance (the
 /// invariant's check at the start, where each sphere's side of a plane is the one it is on).
-fn check_start(m: &Motion, cells: &Cells, periodic: bool, walls: &Walls) -> Result<(), SimError> {
+fn check_start(
+    m: &Motion,
+    cells: &Cells,
+    periodic: bool,
+    walls: &Statics<u16>,
+) -> Result<(), SimError> {
     match invariant::check(&m.bodies, cells, periodic, walls, &[]) {
         Ok(_) => Ok(()),
         Err(b) if b.other.kind == crate::ShapeKind::Sphere => Err(SimError::Overlap {
@@ -1313,10 +1303,7 @@ mod tests {
         }
         World {
             spheres,
-            containers: vec![Fixed {
-                shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
-                material: 0,
-            }],
+            statics: Statics::new().with(crate::Container::new([0.0; 3], 4.0).unwrap(), 0),
             materials: vec!["a".into(), "b".into()],
             effects: Effects {
                 response: Response::Inelastic { restitution: e },
@@ -1470,10 +1457,7 @@ mod tests {
                 mass: 1.0,
                 material: 0,
             }],
-            containers: vec![Fixed {
-                shape: crate::Container::new([0.0; 3], 6.0).unwrap(),
-                material: 0,
-            }],
+            statics: Statics::new().with(crate::Container::new([0.0; 3], 6.0).unwrap(), 0),
             effects: Effects {
                 response: Response::Inelastic { restitution: e },
                 tc,
@@ -1568,10 +1552,7 @@ mod tests {
         }
         // Walls and clusters: a sticky and inelastic mix in a container, then clusters stuck to
         // a floor (infinite mass) hit by free spheres.
-        let floor = Fixed {
-            shape: crate::Plane::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]).unwrap(),
-            material: 1,
-        };
+        let floor = crate::Plane::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]).unwrap();
         let inside = |p: DVec3| p.length() < 3.4 && p.z > -1.5;
         let mut spheres = generate::random_spheres(
             DVec3::splat(-3.5),
@@ -1589,11 +1570,9 @@ mod tests {
         }
         let w = World {
             spheres,
-            planes: vec![floor],
-            containers: vec![Fixed {
-                shape: crate::Container::new([0.0; 3], 4.0).unwrap(),
-                material: 0,
-            }],
+            statics: Statics::new()
+                .with(floor, 1)
+                .with(crate::Container::new([0.0; 3], 4.0).unwrap(), 0),
             materials: vec!["glass".into(), "glue".into()],
             effects: Effects {
                 pairs: vec![MaterialPair {

@@ -4,8 +4,8 @@
 
 use glam::DVec3;
 
+use crate::Statics;
 use crate::error::Problem;
-use crate::{Container, Cylinder, Plane};
 
 /// One sphere of a simulation: centre and velocity at the start, radius, mass and material.
 /// The engine keeps positions, velocities and times in f64.
@@ -19,15 +19,6 @@ pub struct SphereState {
     pub radius: f64,
     /// Mass (`> 0`).
     pub mass: f64,
-    /// Index into [`World::materials`].
-    pub material: u16,
-}
-
-/// A static shape and its material.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Fixed<S> {
-    /// The shape (validated by its constructor).
-    pub shape: S,
     /// Index into [`World::materials`].
     pub material: u16,
 }
@@ -105,12 +96,9 @@ pub enum Boundary {
 pub struct World {
     /// The spheres.
     pub spheres: Vec<SphereState>,
-    /// Static planes.
-    pub planes: Vec<Fixed<Plane>>,
-    /// Static infinite cylinders.
-    pub cylinders: Vec<Fixed<Cylinder>>,
-    /// Static spherical containers (every sphere starts inside each).
-    pub containers: Vec<Fixed<Container>>,
+    /// The static shapes (planes, infinite cylinders, containers: every sphere starts inside
+    /// each container), each with its material, an index into [`World::materials`].
+    pub statics: Statics<u16>,
     /// Where the spheres live.
     pub boundary: Boundary,
     /// Material names (at least one; index 0 is the default).
@@ -352,14 +340,8 @@ impl World {
             }
             material(format!("sphere {index}"), s.material)?;
         }
-        for (i, p) in self.planes.iter().enumerate() {
-            material(format!("plane {i}"), p.material)?;
-        }
-        for (i, p) in self.cylinders.iter().enumerate() {
-            material(format!("cylinder {i}"), p.material)?;
-        }
-        for (i, p) in self.containers.iter().enumerate() {
-            material(format!("container {i}"), p.material)?;
+        for (body, _, &m) in self.statics.iter() {
+            material(body.to_string(), m)?;
         }
         let fx = &self.effects;
         let check = |r: &Response, what: String| match r {
