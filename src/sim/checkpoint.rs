@@ -9,6 +9,7 @@
 //! one is refused (the checksum, then every index and length, are checked).
 
 use super::model::SimError;
+use super::{Effects, Simulation, World};
 
 /// Format version; bump when the layout changes.
 pub(crate) const VERSION: u32 = 2;
@@ -125,4 +126,127 @@ pub(crate) fn checksum(bytes: &[u8]) -> u64 {
 /// FNV-1a over a world's description: a checkpoint restores only into the world it came from.
 pub(crate) fn fingerprint(text: &str) -> u64 {
     checksum(text.as_bytes())
+}
+
+impl Simulation {
+    /// The whole dynamic state as bytes: restored with [`restore`](Self::restore) into the same
+    /// world, the run continues bit for bit as this one would. Take it between
+    /// [`advance_with`](Self::advance_with) calls (or when one stops early); unread event
+    /// records are not part of it.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// # let ball = |x: f64, vx: f64| SphereState {
+    /// #     centre: DVec3::new(x, 0.0, 0.0),
+    /// #     velocity: DVec3::new(vx, 0.0, 0.0),
+    /// #     radius: 0.5,
+    /// #     mass: 1.0,
+    /// #     material: 0,
+    /// # };
+    /// // Two beads 3 apart closing at 2: they meet at t = 1 and swap velocities.
+    /// let world = World {
+    ///     spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+    ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world.clone())?;
+    /// sim.advance_to(0.5)?;
+    /// let saved = sim.checkpoint();
+    /// let mut again = Simulation::restore(world, &saved)?;
+    /// assert_eq!(again.time(), 0.5);
+    /// again.advance_to(2.0)?;
+    /// sim.advance_to(2.0)?;
+    /// assert_eq!(again.spheres(), sim.spheres()); // bit for bit
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn checkpoint(&self) -> Vec<u8> {
+        let mut e = Encoder::default();
+        e.0.extend_from_slice(MAGIC);
+        e.u32(VERSION);
+        e.u64(self.fingerprint);
+        self.engine.save(&mut e);
+        let sum = checksum(&e.0);
+        e.u64(sum);
+        e.0
+    }
+
+    /// The simulation of `world` at the state a [`checkpoint`](Self::checkpoint) holds.
+    ///
+    /// # Errors
+    /// [`SimError::Checkpoint`] if the bytes are not a checkpoint of this format, belong to
+    /// another world, or are damaged (every index is checked; nothing panics).
+    ///
+    /// ```
+    /// use spheresweep::sim::{Simulation, World, generate};
+    /// let mut world = World::default();
+    /// generate::periodic_gas(&mut world, 256, 0.3, 0.5, 1.0, 3)?;
+    /// let mut a = Simulation::new(world.clone())?;
+    /// a.advance_to(1.0)?;
+    /// let saved = a.checkpoint();
+    /// a.advance_to(2.0)?;
+    /// let mut b = Simulation::restore(world, &saved)?;
+    /// b.advance_to(2.0)?;
+    /// assert_eq!(a.spheres(), b.spheres());
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn restore(world: World, bytes: &[u8]) -> Result<Self, SimError> {
+        let mut sim = Simulation::new(world)?;
+        let Some((body, sum)) = bytes.split_last_chunk::<8>() else {
+            return Err(SimError::Checkpoint(format!(
+                "truncated: {} bytes",
+                bytes.len()
+            )));
+        };
+        let mut d = Decoder::new(body);
+        let magic = [d.u8()?, d.u8()?, d.u8()?, d.u8()?];
+        if &magic != MAGIC {
+            return Err(SimError::Checkpoint("not a spheresweep checkpoint".into()));
+        }
+        if checksum(body) != u64::from_le_bytes(*sum) {
+            return Err(SimError::Checkpoint(
+                "damaged: the checksum does not match".into(),
+            ));
+        }
+        let version = d.u32()?;
+        if version != VERSION {
+            return Err(SimError::Checkpoint(format!(
+                "format version {version}; this build reads version {}",
+                VERSION
+            )));
+        }
+        if d.u64()? != sim.fingerprint {
+            return Err(SimError::Checkpoint(
+                "written for another world (shapes, boundary, effects, masses or materials differ)"
+                    .into(),
+            ));
+        }
+        let (masses, materials) = (sim.masses.clone(), sim.materials.clone());
+        sim.engine.load(&mut d, &masses, &materials)?;
+        d.finish()?;
+        Ok(sim)
+    }
+}
+
+/// What a checkpoint must match: everything in the world but the spheres' positions and
+/// velocities (which the checkpoint carries) and what is recorded (`record_events`, `geometry`:
+/// they change what is written, not the dynamics).
+pub(super) fn world_fingerprint(w: &World) -> u64 {
+    let per_sphere: Vec<(u64, u64, u16)> = w
+        .spheres
+        .iter()
+        .map(|s| (s.radius.to_bits(), s.mass.to_bits(), s.material))
+        .collect();
+    fingerprint(&format!(
+        "{:?}{:?}{:?}{:?}{:?}",
+        per_sphere,
+        w.statics,
+        w.boundary,
+        w.materials,
+        Effects {
+            record_events: false,
+            geometry: false,
+            ..w.effects.clone()
+        }
+    ))
 }
