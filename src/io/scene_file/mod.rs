@@ -1,0 +1,284 @@
+//! Scene files: a simulation described in TOML (for people) or JSON (for programs), read into
+//! a [`World`] and the [`RunSettings`] of a run. The format, field by field with units, ranges
+//! and defaults: docs/scene-format.md.
+//!
+//! ```
+//! use spheresweep::io::scene_file::SceneFile;
+//! let scene = SceneFile::from_toml_str(r#"
+//!     [run]
+//!     t_end = 2.0
+//!
+//!     [[material]]
+//!     name = "steel"
+//!
+//!     [[sphere]]
+//!     centre = [0.0, 0.0, 3.0]
+//!     velocity = [0.0, 0.0, -1.0]
+//!     radius = 1.0
+//!
+//!     [[plane]]
+//!     point = [0.0, 0.0, 0.0]
+//!     normal = [0.0, 0.0, 1.0]
+//! "#)?;
+//! let (world, run) = scene.build()?;
+//! assert_eq!((world.spheres.len(), world.statics.len(), run.t_end), (1, 1, 2.0));
+//!
+//! // A typo is refused, naming the field and its line.
+//! let err = SceneFile::from_toml_str("[run]\nt_end = 1\nsnapshot_evry = 0.1\n").unwrap_err();
+//! assert!(err.to_string().contains("line 3") && err.to_string().contains("snapshot_evry"));
+//! # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+//! ```
+//!
+//! Every table refuses unknown fields. Items are counted from 0 within their kind, in file
+//! order (`sphere 3` is the fourth `[[sphere]]`), as the engine counts spheres and shapes; the
+//! world's spheres are the listed `[[sphere]]`s first, then each `[[generate]]` block's in
+//! order. Errors found after parsing (an undeclared material, a field that does not belong to
+//! a generator, an invalid shape, spheres that overlap) name the item and, for TOML, its line.
+//!
+//! The module by concern: `schema.rs` (the serde tables, as parsed), `error.rs`
+//! ([`SceneFileError`]), `locate.rs` (an item's line in the TOML text, and the errors that
+//! name it), `assemble.rs` (the checks and the [`World`] built from the tables) and `place.rs`
+//! (the spheres of the `[[generate]]` blocks).
+
+use std::path::{Path, PathBuf};
+
+use crate::sim::{Boundary, Simulation, World};
+use glam::DVec3;
+
+mod assemble;
+mod error;
+mod locate;
+mod place;
+mod schema;
+#[cfg(test)]
+mod tests;
+
+pub use error::SceneFileError;
+pub use schema::{
+    BoundaryKind, BoundaryTable, ContainerTable, CylinderTable, EffectsTable, GenerateKind,
+    GenerateTable, MaterialTable, PairTable, PlaneTable, ResponseKind, RunTable, SceneFile,
+    SphereTable,
+};
+
+use locate::Seg::Key;
+use schema::Origin;
+
+/// The most spheres a scene file may ask for (the generators' own limit).
+pub const MAX_SPHERES: usize = 1 << 28;
+
+/// How a run goes, from `[run]`.
+///
+/// ```
+/// use spheresweep::io::scene_file::SceneFile;
+/// let (_, run) = SceneFile::from_toml_str("[run]\nt_end = 3\nsnapshot_every = 0.5\n")?.build()?;
+/// assert_eq!((run.t_end, run.snapshot_every, run.seed), (3.0, Some(0.5), 0));
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSettings {
+    /// End time.
+    pub t_end: f64,
+    /// Time between snapshots, if any.
+    pub snapshot_every: Option<f64>,
+    /// Base seed.
+    pub seed: u64,
+}
+
+impl SceneFile {
+    /// Parses a TOML scene.
+    ///
+    /// # Errors
+    /// [`SceneFileError::Syntax`] naming the line, column and key.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// assert_eq!(SceneFile::from_toml_str("[run]\nt_end = 2\n")?.run.t_end, 2.0);
+    /// let err = SceneFile::from_toml_str("[run]\n").unwrap_err(); // t_end is required
+    /// assert!(err.to_string().contains("t_end"));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn from_toml_str(text: &str) -> Result<Self, SceneFileError> {
+        Self::toml(text, None)
+    }
+
+    /// Parses a JSON scene (the same structure: `{"run": {"t_end": 1}, "sphere": [...]}`).
+    ///
+    /// # Errors
+    /// [`SceneFileError::Syntax`] naming the line, column and key.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let json = r#"{"run": {"t_end": 1}, "sphere": [{"centre": [0, 0, 0], "radius": 1}]}"#;
+    /// let scene = SceneFile::from_json_str(json)?;
+    /// assert_eq!((scene.run.t_end, scene.sphere.len()), (1.0, 1));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn from_json_str(text: &str) -> Result<Self, SceneFileError> {
+        Self::json(text, None)
+    }
+
+    /// Reads a scene file: JSON if its name ends in `.json`, TOML otherwise. Every message
+    /// starts with the path.
+    ///
+    /// # Errors
+    /// [`SceneFileError::Read`] naming the path, or a parse error prefixed with it.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let name = format!("spheresweep-doc-{}.json", std::process::id());
+    /// let path = std::env::temp_dir().join(name);
+    /// std::fs::write(&path, r#"{"run": {"t_end": 4}}"#).unwrap();
+    /// let scene = SceneFile::from_path(&path); // read as JSON: the name ends in .json
+    /// std::fs::remove_file(&path).unwrap();
+    /// assert_eq!(scene?.run.t_end, 4.0);
+    /// let missing = std::path::Path::new("/no/such/scene.toml");
+    /// let missing = SceneFile::from_path(missing).unwrap_err();
+    /// assert!(missing.to_string().starts_with("cannot read /no/such/scene.toml"));
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn from_path(path: &Path) -> Result<Self, SceneFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneFileError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let file = Some(path.to_path_buf());
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            Self::json(&text, file)
+        } else {
+            Self::toml(&text, file)
+        }
+    }
+
+    fn toml(text: &str, file: Option<PathBuf>) -> Result<Self, SceneFileError> {
+        let mut scene: Self = toml::from_str(text).map_err(|e| SceneFileError::Syntax {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
+        scene.origin = Origin {
+            file,
+            toml: Some(text.into()),
+        };
+        Ok(scene)
+    }
+
+    fn json(text: &str, file: Option<PathBuf>) -> Result<Self, SceneFileError> {
+        let mut scene: Self = serde_json::from_str(text).map_err(|e| SceneFileError::Syntax {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
+        scene.origin = Origin { file, toml: None };
+        Ok(scene)
+    }
+
+    /// How many spheres [`build`](Self::build) would make: the `[[sphere]]` entries plus each
+    /// `[[generate]]` block's count, read without generating anything, so that a caller can
+    /// refuse a scene too large for memory before it is built. `None` if a block's count is
+    /// missing or the total overflows (`build` then names the block).
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let text = r#"
+    ///     [run]
+    ///     t_end = 1
+    ///     [[sphere]]
+    ///     centre = [0, 0, -5]
+    ///     radius = 0.5
+    ///     [[generate]]
+    ///     kind = "lattice"
+    ///     lo = [0, 0, 0]
+    ///     counts = [10, 10, 10]
+    ///     spacing = 1.5
+    ///     radius = 0.5
+    /// "#;
+    /// assert_eq!(SceneFile::from_toml_str(text)?.sphere_count(), Some(1 + 1000)); // nothing generated yet
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn sphere_count(&self) -> Option<usize> {
+        self.generate
+            .iter()
+            .try_fold(self.sphere.len(), |total, g| total.checked_add(g.count()?))
+    }
+
+    /// The file this scene was read from, if any.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// assert_eq!(SceneFile::from_toml_str("[run]\nt_end = 1\n")?.path(), None); // not read from a file
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn path(&self) -> Option<&Path> {
+        self.origin.file.as_deref()
+    }
+
+    /// Builds the world and the simulation in one step, naming the file's items in any error.
+    ///
+    /// # Errors
+    /// As [`build`](Self::build), and [`Simulation::new`]'s errors through
+    /// [`locate`](Self::locate).
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// let text = "[run]\nt_end = 2\n\
+    ///     [[sphere]]\ncentre = [0, 0, 3]\nvelocity = [0, 0, -1]\nradius = 1\n\
+    ///     [[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n";
+    /// let (mut sim, run) = SceneFile::from_toml_str(text)?.start()?;
+    /// sim.advance_to(run.t_end)?;
+    /// assert_eq!(sim.stats().wall_collisions, 1); // the floor at t = 2
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn start(&self) -> Result<(Simulation, RunSettings), SceneFileError> {
+        let (world, run) = self.build()?;
+        let sim = Simulation::new(world).map_err(|e| self.locate(e))?;
+        Ok((sim, run))
+    }
+
+    /// Checks every item and builds the [`World`] (spheres, shapes, boundary, materials,
+    /// effects) and the run's settings. Overlaps between spheres are checked by
+    /// [`Simulation::new`] (see [`start`](Self::start) and [`locate`](Self::locate)).
+    ///
+    /// # Errors
+    /// A [`SceneFileError`] naming the item, the field and (for TOML) the line.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::SceneFile;
+    /// use spheresweep::sim::Boundary;
+    /// let text = "[run]\nt_end = 1\n[boundary]\nkind = \"periodic\"\n\
+    ///     [[generate]]\nkind = \"periodic_gas\"\nn = 108\nphi = 0.2\nradius = 0.5\n";
+    /// let (world, _) = SceneFile::from_toml_str(text)?.build()?;
+    /// assert_eq!(world.spheres.len(), 108);
+    /// assert!(matches!(world.boundary, Boundary::Periodic { size } if size.x > 0.0)); // set by the gas
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn build(&self) -> Result<(World, RunSettings), SceneFileError> {
+        let run = self.run_settings()?;
+        let materials = self.materials()?;
+        let effects = self.effects(&materials)?;
+        let mut world = World {
+            materials,
+            effects,
+            ..World::default()
+        };
+        let periodic_size = self.boundary(&mut world)?;
+        self.shapes(&mut world)?;
+        for (i, s) in self.sphere.iter().enumerate() {
+            world
+                .spheres
+                .push(self.listed_sphere(i, s, &world.materials)?);
+        }
+        self.generated(&mut world, periodic_size, run.seed)?;
+        if let Boundary::Periodic { size } = world.boundary
+            && size == DVec3::ZERO
+        {
+            return Err(self.item_error(
+                "boundary",
+                &[Key("boundary"), Key("kind")],
+                "a periodic boundary needs `size`, or a `periodic_gas` generator to set it".into(),
+            ));
+        }
+        world.validate().map_err(|e| self.locate(e))?;
+        Ok((world, run))
+    }
+}

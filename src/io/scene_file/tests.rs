@@ -1,0 +1,370 @@
+//! The scene file read and built end to end: a full scene, its JSON twin, and the errors
+//! that name their item and line.
+
+use super::*;
+use crate::ShapeKind;
+use crate::sim::{MaterialPair, Response};
+
+const FULL: &str = r#"
+[run]
+t_end = 2.5
+snapshot_every = 0.5
+seed = 7
+
+[boundary]
+kind = "box"
+lo = [-30.0, -30.0, -20.0]
+hi = [30.0, 30.0, 40.0]
+
+[[material]]
+name = "glass"
+
+[[material]]
+name = "rubber"
+
+[effects]
+response = "inelastic"
+restitution = 0.8
+tc = 1e-4
+record_events = true
+geometry = true
+
+[[effects.pair]]
+a = "glass"
+b = "rubber"
+response = "sticky"
+
+[[sphere]]
+centre = [3.0, 3.0, 25.0]
+velocity = [0.0, 0.0, -1.0]
+radius = 0.5
+mass = 2.0
+material = "rubber"
+
+[[generate]]
+kind = "nozzle"
+origin = [0.0, 0.0, 10.0]
+direction = [0.0, 0.0, -1.0]
+n = 50
+radius = 0.2
+speed = 3.0
+spread = 0.05
+material = "glass"
+
+[[generate]]
+kind = "random"
+n = 100
+radius = 0.3
+speed = 1.0
+inside = 0
+seed = 3
+
+[[generate]]
+kind = "lattice"
+lo = [10.0, 10.0, 1.0]
+counts = [3, 4, 5]
+spacing = 1.0
+radius = 0.4
+
+[[plane]]
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+material = "rubber"
+
+[[cylinder]]
+p1 = [5.0, 0.0, 0.0]
+p2 = [5.0, 0.0, 1.0]
+radius = 1.0
+
+[[container]]
+centre = [0.0, 0.0, 10.0]
+radius = 30.0
+"#;
+
+#[test]
+fn a_full_scene_builds() {
+    let scene = SceneFile::from_toml_str(FULL).unwrap();
+    let (world, run) = scene.build().unwrap();
+    assert_eq!(
+        run,
+        RunSettings {
+            t_end: 2.5,
+            snapshot_every: Some(0.5),
+            seed: 7
+        }
+    );
+    assert_eq!(world.spheres.len(), 1 + 50 + 100 + 60);
+    assert_eq!(world.materials, ["glass", "rubber"]);
+    assert_eq!(world.spheres[0].material, 1);
+    assert_eq!(world.spheres[0].mass, 2.0);
+    assert!(world.spheres[1..].iter().all(|s| s.material == 0));
+    assert_eq!(
+        world.effects.response,
+        Response::Inelastic { restitution: 0.8 }
+    );
+    assert_eq!(
+        world.effects.pairs,
+        [MaterialPair {
+            a: 0,
+            b: 1,
+            response: Response::Sticky
+        }]
+    );
+    let kinds: Vec<_> = world.statics.iter().map(|(b, _, &m)| (b.kind, m)).collect();
+    assert_eq!(
+        kinds,
+        [
+            (ShapeKind::Plane, 1),
+            (ShapeKind::Cylinder, kinds[1].1),
+            (ShapeKind::Container, kinds[2].1)
+        ]
+    );
+    // The random block is inside its container.
+    for s in &world.spheres[51..151] {
+        assert!(s.centre.distance(DVec3::new(0.0, 0.0, 10.0)) <= 30.0 - 0.3);
+    }
+    let sim = Simulation::new(world).unwrap();
+    assert!(sim.engine_name().contains("static shapes"));
+    assert!(scene.start().is_ok());
+}
+
+#[test]
+fn json_builds_the_same_world() {
+    let json = r#"{
+        "run": {"t_end": 2.5, "snapshot_every": 0.5, "seed": 7},
+        "boundary": {"kind": "box", "lo": [-30, -30, -20], "hi": [30, 30, 40]},
+        "material": [{"name": "glass"}, {"name": "rubber"}],
+        "effects": {"response": "inelastic", "restitution": 0.8, "tc": 1e-4,
+                    "record_events": true, "geometry": true,
+                    "pair": [{"a": "glass", "b": "rubber", "response": "sticky"}]},
+        "sphere": [{"centre": [3, 3, 25], "velocity": [0, 0, -1], "radius": 0.5,
+                    "mass": 2, "material": "rubber"}],
+        "generate": [
+            {"kind": "nozzle", "origin": [0, 0, 10], "direction": [0, 0, -1], "n": 50,
+             "radius": 0.2, "speed": 3, "spread": 0.05, "material": "glass"},
+            {"kind": "random", "n": 100, "radius": 0.3, "speed": 1, "inside": 0, "seed": 3},
+            {"kind": "lattice", "lo": [10, 10, 1], "counts": [3, 4, 5], "spacing": 1,
+             "radius": 0.4}
+        ],
+        "plane": [{"point": [0, 0, 0], "normal": [0, 0, 1], "material": "rubber"}],
+        "cylinder": [{"p1": [5, 0, 0], "p2": [5, 0, 1], "radius": 1}],
+        "container": [{"centre": [0, 0, 10], "radius": 30}]
+    }"#;
+    let from_json = SceneFile::from_json_str(json).unwrap().build().unwrap();
+    let from_toml = SceneFile::from_toml_str(FULL).unwrap().build().unwrap();
+    assert_eq!(from_json, from_toml);
+}
+
+fn toml_error(text: &str) -> String {
+    match SceneFile::from_toml_str(text) {
+        Err(e) => e.to_string(),
+        Ok(s) => s.build().unwrap_err().to_string(),
+    }
+}
+
+#[test]
+fn a_typo_is_refused_naming_the_field_and_its_line() {
+    let text = FULL.replace("restitution = 0.8", "restitusion = 0.8");
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("restitusion"))
+        .unwrap()
+        + 1;
+    let err = toml_error(&text);
+    assert!(err.contains(&format!("line {line}")), "{err}");
+    assert!(err.contains("unknown field `restitusion`"), "{err}");
+    // In a generator block too (not the first one), and in JSON.
+    let text = FULL.replace("inside = 0", "insde = 0");
+    let line = text.lines().position(|l| l.starts_with("insde")).unwrap() + 1;
+    let err = toml_error(&text);
+    assert!(
+        err.contains(&format!("line {line}")) && err.contains("`insde`"),
+        "{err}"
+    );
+    let err = SceneFile::from_json_str("{\"run\": {\n\"t_end\": 1,\n\"sede\": 2}}")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("`sede`") && err.contains("line 3"), "{err}");
+}
+
+#[test]
+fn undeclared_materials_name_the_item_and_line() {
+    let text = FULL.replace(
+        "material = \"rubber\"\n\n[[generate]]",
+        "material = \"steel\"\n\n[[generate]]",
+    );
+    let err = toml_error(&text);
+    assert!(
+        err.starts_with("line 35: sphere 0: material \"steel\" is not declared"),
+        "{err}"
+    );
+    let err = toml_error(
+        "[run]\nt_end = 1\n[[plane]]\npoint = [0,0,0]\nnormal = [0,0,1]\nmaterial = \"x\"\n",
+    );
+    assert!(
+        err.starts_with("line 6: plane 0: material \"x\" is not declared"),
+        "{err}"
+    );
+}
+
+/// More materials than the engine's response table holds are refused, naming the first
+/// one too many; the most accepted build.
+#[test]
+fn at_most_max_materials_are_declared() {
+    let declare = |n: usize| {
+        let mut text = String::from("[run]\nt_end = 1\n");
+        for k in 0..n {
+            text += &format!("[[material]]\nname = \"m{k}\"\n");
+        }
+        text
+    };
+    let max = crate::sim::MAX_MATERIALS;
+    let err = toml_error(&declare(max + 1));
+    assert!(err.contains(&format!("at most {max} materials")), "{err}");
+    let file = SceneFile::from_toml_str(&declare(max)).unwrap();
+    let (world, _) = file.build().unwrap();
+    assert_eq!(world.materials.len(), max);
+}
+
+#[test]
+fn fields_that_do_not_fit_their_item_are_named() {
+    let cases = [
+        (
+            FULL.replace("spread = 0.05", "phi = 0.05"),
+            "generate 0 (nozzle): `phi` does not apply",
+        ),
+        (
+            FULL.replace("counts = [3, 4, 5]\n", ""),
+            "generate 2 (lattice): kind = \"lattice\" needs `counts`",
+        ),
+        (
+            FULL.replace("inside = 0", "inside = 4"),
+            "inside = 4: there are 1 containers",
+        ),
+        (
+            FULL.replace("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, 0.0]"),
+            "plane 0: plane normal has zero length",
+        ),
+        (
+            FULL.replace("restitution = 0.8", "restitution = 1.5"),
+            "effects: restitution = 1.5 must be in [0, 1]",
+        ),
+        (
+            FULL.replace(
+                "response = \"sticky\"",
+                "response = \"sticky\"\nrestitution = 0.5",
+            ),
+            "effects.pair 0: restitution applies only to response = \"inelastic\"",
+        ),
+        (
+            FULL.replace("t_end = 2.5", "t_end = -1"),
+            "run: t_end = -1.0 must be finite",
+        ),
+        (
+            FULL.replace("mass = 2.0", "mass = 0.0"),
+            "sphere 0: mass = 0.0 must be finite and greater than 0",
+        ),
+        (
+            FULL.replace("kind = \"box\"", "kind = \"periodic\""),
+            "boundary: `lo` does not apply to kind = \"periodic\"",
+        ),
+        (
+            FULL.replace("name = \"rubber\"", "name = \"glass\""),
+            "material 1: name \"glass\" is already material 0",
+        ),
+    ];
+    for (text, want) in cases {
+        let err = toml_error(&text);
+        assert!(err.contains(want), "want {want:?} in {err}");
+        assert!(err.starts_with("line "), "{err}");
+    }
+}
+
+#[test]
+fn overlapping_spheres_are_named_by_their_entries() {
+    let text = "[run]\nt_end = 1\n\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 1\n\n[[generate]]\nkind = \"lattice\"\nlo = [1, 0, 0]\ncounts = [2, 1, 1]\nspacing = 3\nradius = 0.5\n";
+    let scene = SceneFile::from_toml_str(text).unwrap();
+    let err = scene.start().unwrap_err().to_string();
+    assert!(
+        err.starts_with(
+            "line 4: sphere 0 and generate 0 (lattice), its sphere 0: spheres 0 and 1 overlap"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_periodic_gas_sets_its_box() {
+    let text = "[run]\nt_end = 1\n[boundary]\nkind = \"periodic\"\n[[generate]]\nkind = \"periodic_gas\"\nn = 500\nphi = 0.2\nradius = 0.5\ntemperature = 2.0\nmass = 4.0\n";
+    let (world, _) = SceneFile::from_toml_str(text).unwrap().build().unwrap();
+    let Boundary::Periodic { size } = world.boundary else {
+        panic!("not periodic")
+    };
+    let volume = 500.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.125 / 0.2;
+    assert!((size.x.powi(3) - volume).abs() < 1e-9 * volume);
+    let ke: f64 = world
+        .spheres
+        .iter()
+        .map(|s| 0.5 * s.mass * s.velocity.length_squared())
+        .sum();
+    assert!((ke - 1.5 * 500.0 * 2.0).abs() < 1e-9 * ke);
+    let err = toml_error(&text.replace("kind = \"periodic\"", "kind = \"open\""));
+    assert!(
+        err.contains("periodic_gas needs [boundary] kind = \"periodic\""),
+        "{err}"
+    );
+    let err = toml_error("[run]\nt_end = 1\n[boundary]\nkind = \"periodic\"\n");
+    assert!(err.contains("a periodic boundary needs `size`"), "{err}");
+}
+
+#[test]
+fn the_documented_example_builds_and_runs() {
+    let doc = include_str!("../../../docs/scene-format.md");
+    let example = doc
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|s| s.split("```").next())
+        .expect("docs/scene-format.md has a TOML example");
+    let scene = SceneFile::from_toml_str(example).unwrap();
+    let (mut sim, run) = scene.start().unwrap();
+    assert_eq!(sim.spheres().len(), 101);
+    sim.advance_to(run.t_end).unwrap();
+    assert!(sim.stats().pair_collisions > 0 && sim.stats().wall_collisions > 0);
+}
+
+#[test]
+fn files_are_named_in_messages() {
+    let missing = Path::new("/no/such/scene.toml");
+    let err = SceneFile::from_path(missing).unwrap_err().to_string();
+    assert!(
+        err.starts_with("cannot read /no/such/scene.toml: "),
+        "{err}"
+    );
+    let dir = std::env::temp_dir().join(format!("spheresweep-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("typo.toml");
+    std::fs::write(&path, "[run]\nt_ned = 1\n").unwrap();
+    let err = SceneFile::from_path(&path).unwrap_err().to_string();
+    assert!(
+        err.starts_with(&format!("{}: TOML parse error at line 2", path.display())),
+        "{err}"
+    );
+    std::fs::write(
+        &path,
+        "[run]\nt_end = 1\n[[sphere]]\ncentre = [0,0,0]\nradius = 1\nmaterial = \"rubber\"\n",
+    )
+    .unwrap();
+    let err = SceneFile::from_path(&path)
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.starts_with(&format!(
+            "{}:6: sphere 0: material \"rubber\" is not declared",
+            path.display()
+        )),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
