@@ -17,6 +17,7 @@ use crate::error::{Problem, ShapeError};
 /// assert!(ShapeKind::Plane < ShapeKind::Container);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[non_exhaustive]
 pub enum ShapeKind {
     /// A moving [`Sphere`].
     Sphere,
@@ -36,6 +37,31 @@ impl ShapeKind {
         ShapeKind::Cylinder,
         ShapeKind::Container,
     ];
+
+    /// The code of "no body" beside [`ShapeKind::code`] in columns of kinds (a first contact
+    /// that did not happen).
+    pub const NONE_CODE: u8 = 255;
+
+    /// The kind's code in columns of kinds (query files, Parquet, NumPy, Python, checkpoints):
+    /// its place in the tie-break order, sphere `0`, plane `1`, cylinder `2`, container `3`;
+    /// "none" is [`ShapeKind::NONE_CODE`].
+    ///
+    /// ```
+    /// use spheresweep::ShapeKind;
+    /// for kind in ShapeKind::ALL {
+    ///     assert_eq!(ShapeKind::from_code(kind.code()), Some(kind));
+    /// }
+    /// assert_eq!(ShapeKind::Container.code(), 3);
+    /// assert_eq!(ShapeKind::from_code(ShapeKind::NONE_CODE), None);
+    /// ```
+    pub const fn code(self) -> u8 {
+        self as u8
+    }
+
+    /// The kind of a [`ShapeKind::code`], `None` for any other byte.
+    pub fn from_code(code: u8) -> Option<ShapeKind> {
+        ShapeKind::ALL.get(usize::from(code)).copied()
+    }
 
     /// The lower-case name used in messages and reports.
     ///
@@ -69,6 +95,7 @@ impl std::fmt::Display for ShapeKind {
 /// # Ok::<(), spheresweep::ShapeError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub enum Shape {
     /// A second moving sphere (exterior contact).
     Sphere(Sphere),

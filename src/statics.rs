@@ -170,6 +170,32 @@ pub trait Visitor<P> {
     fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>);
 }
 
+/// Work done on one static shape of a kind known only at run time ([`Static::apply`]): the
+/// generic method is monomorphised per kind, so the work runs the kind's own kernel.
+///
+/// ```
+/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, Static, batch, statics::ShapeFn};
+/// struct Times<'a>(&'a SphereStore, &'a mut [f32]);
+/// impl ShapeFn for Times<'_> {
+///     type Output = Result<(), spheresweep::BatchError>;
+///     fn call<K: spheresweep::StaticShape>(self, shape: &K) -> Self::Output {
+///         batch::static_times(self.0, shape, QueryOptions::default(), self.1)
+///     }
+/// }
+/// let floor = Static::from(Plane::new([0.0; 3], [0.0, 0.0, 1.0])?);
+/// let balls = SphereStore::from_spheres(&[Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0)?]);
+/// let mut out = [0.0];
+/// floor.apply(Times(&balls, &mut out))?;
+/// assert_eq!(out, [2.0]);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
+pub trait ShapeFn {
+    /// What the work returns.
+    type Output;
+    /// Does the work on `shape`.
+    fn call<K: StaticShape>(self, shape: &K) -> Self::Output;
+}
+
 macro_rules! define_statics {
     ($($kind:ident $field:ident,)*) => {
         /// The static shapes of a scene by kind, each with a payload `P`; see the
@@ -213,6 +239,13 @@ macro_rules! define_statics {
             pub fn kind(&self) -> ShapeKind {
                 match self {
                     $(Static::$kind(_) => ShapeKind::$kind,)*
+                }
+            }
+
+            /// Runs `f` on the shape, monomorphised for its kind.
+            pub fn apply<F: ShapeFn>(&self, f: F) -> F::Output {
+                match self {
+                    $(Static::$kind(s) => f.call(s),)*
                 }
             }
 
@@ -323,6 +356,12 @@ macro_rules! define_statics {
                 match shape {
                     $(Static::$kind(k) => self.push(k, payload),)*
                 }
+            }
+
+            /// Each static kind with how many shapes of it, in tie-break order (a kind with
+            /// none included).
+            pub fn counts(&self) -> Vec<(ShapeKind, usize)> {
+                vec![$((ShapeKind::$kind, self.$field.len()),)*]
             }
 
             /// How many shapes of every kind.

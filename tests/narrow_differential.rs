@@ -330,6 +330,7 @@ fn scaled(pair: &Pair, kx: i32, kv: i32) -> Option<Pair> {
         Shape::Container(k) => {
             Shape::Container(Container::new(v3(k.centre(), sx)?, ok(k.radius(), sx)?).ok()?)
         }
+        _ => return None,
     };
     Some(Pair { sphere, other })
 }

@@ -10,12 +10,14 @@ mod common;
 use std::sync::OnceLock;
 
 use common::{Pair, model};
-use spheresweep::batch::{static_times, zip_times};
+use spheresweep::batch::{static_times_any, zip_times};
 use spheresweep::io::scene_file::SceneFile;
 use spheresweep::io::xyz::read_frames;
 use spheresweep::sim::{Simulation, World, generate};
 use spheresweep::store::{Columns, StoreError};
-use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions, Shape, Sphere, SphereStore};
+use spheresweep::{
+    Accuracy, Container, Cylinder, Plane, QueryOptions, Shape, Sphere, SphereStore, Static,
+};
 
 /// The largest scene [`scene_file`] builds, so that every run stays fast.
 pub const MAX_SPHERES: usize = 2000;
@@ -160,9 +162,10 @@ fn batch_time(sphere: &Sphere, other: &Shape, options: QueryOptions) -> Option<f
     let mut out = [f32::NAN];
     match other {
         Shape::Sphere(b) => zip_times(&store, &SphereStore::from_spheres(&[*b]), options, &mut out),
-        Shape::Plane(p) => static_times(&store, p, options, &mut out),
-        Shape::Cylinder(c) => static_times(&store, c, options, &mut out),
-        Shape::Container(c) => static_times(&store, c, options, &mut out),
+        other => {
+            let shape = Static::try_from(*other).expect("a static shape");
+            static_times_any(&store, &shape, options, &mut out)
+        }
     }
     .expect("one slot for one pair");
     let t = out[0];
@@ -193,6 +196,7 @@ fn in_tested_range(sphere: &Sphere, other: &Shape, t_max: f32) -> bool {
         Shape::Plane(p) => near(p.point()),
         Shape::Cylinder(c) => near(c.point()) && radius(c.radius()),
         Shape::Container(c) => near(c.centre()) && (20.0..=300.0).contains(&c.radius()),
+        _ => false,
     };
     body(sphere) && shape && [1.0, 10.0, 100.0, f32::INFINITY].contains(&t_max)
 }

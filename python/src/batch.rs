@@ -6,13 +6,13 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMetho
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use spheresweep::batch::{self, StaticShape};
-use spheresweep::{Accuracy, QueryOptions, SphereStore};
+use spheresweep::batch;
+use spheresweep::Accuracy;
 
 use crate::args::{self, instance, optional};
 use crate::arrays::indices;
 use crate::memory;
-use crate::shapes::{AnyStatic, Takes, static_shape};
+use crate::shapes::{Takes, static_shape};
 use crate::spheres::Spheres;
 
 /// A Rust error as a Python `ValueError` carrying the Rust message.
@@ -134,15 +134,6 @@ pub fn pair_times<'py>(
     })
 }
 
-fn times_against<K: StaticShape>(
-    store: &SphereStore,
-    shape: &K,
-    opts: QueryOptions,
-    out: &mut [f32],
-) {
-    batch::static_times(store, shape, opts, out).expect("one slot per sphere");
-}
-
 /// Time of impact of every sphere of `s` with each static shape of `shapes` (a sequence of
 /// `Plane`, `Cylinder` and `Container` in any mix): float32 `(N, len(shapes))`, column `k`
 /// for `shapes[k]`, `inf` for no contact in `[0, t_max]`. The GIL is released while the
@@ -159,7 +150,7 @@ pub fn static_times<'py>(
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
     let s = instance::<Spheres>(s, "s", "Spheres")?;
     let opts = args::options(t_max, accuracy, None)?;
-    let shapes: Vec<AnyStatic> = shapes
+    let shapes: Vec<spheresweep::Static> = shapes
         .try_iter()
         .map_err(|_| args::wrong_type("shapes", "a sequence of shapes", shapes))?
         .enumerate()
@@ -171,11 +162,7 @@ pub fn static_times<'py>(
     let mut table = memory::filled(n.saturating_mul(k), 0.0f32, "static_times")?;
     py.detach(|| {
         for (c, shape) in shapes.iter().enumerate() {
-            match shape {
-                AnyStatic::Plane(p) => times_against(store, p, opts, &mut column),
-                AnyStatic::Cylinder(p) => times_against(store, p, opts, &mut column),
-                AnyStatic::Container(p) => times_against(store, p, opts, &mut column),
-            }
+            batch::static_times_any(store, shape, opts, &mut column).expect("one slot each");
             for (i, &t) in column.iter().enumerate() {
                 table[i * k + c] = t;
             }

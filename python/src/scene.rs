@@ -6,15 +6,15 @@ use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
 use pyo3::prelude::*;
 use pyo3::types::{PyTuple, PyType};
-use spheresweep::QueryOptions;
 use spheresweep::contact::Contact;
 use spheresweep::query::{self, estimate};
 use spheresweep::scene::Scene as RustScene;
+use spheresweep::{QueryOptions, ShapeKind, Static};
 
 use crate::args::{self, instance, show};
 use crate::memory;
 use crate::results::{Contacts, FirstContacts, KIND_NONE, kind_code};
-use crate::shapes::{AnyStatic, Takes, static_shape};
+use crate::shapes::{Takes, static_shape};
 use crate::spheres::{STORE_BYTES, Spheres};
 
 /// Spheres and the static shapes around them, validated: what `first_contacts` and
@@ -36,7 +36,7 @@ pub(crate) fn shape_items<'py>(
     items: Option<&Bound<'py, PyAny>>,
     name: &str,
     takes: Takes,
-) -> PyResult<(Bound<'py, PyTuple>, Vec<AnyStatic>)> {
+) -> PyResult<(Bound<'py, PyTuple>, Vec<Static>)> {
     let Some(items) = args::optional(items) else {
         return Ok((PyTuple::empty(py), Vec::new()));
     };
@@ -64,9 +64,15 @@ impl Scene {
     ) -> PyResult<Self> {
         let py = spheres.py();
         let spheres = instance::<Spheres>(spheres, "spheres", "Spheres")?;
-        let (planes, p) = shape_items(py, planes, "planes", Takes::Planes)?;
-        let (cylinders, c) = shape_items(py, cylinders, "cylinders", Takes::Cylinders)?;
-        let (containers, k) = shape_items(py, containers, "containers", Takes::Containers)?;
+        let (planes, p) = shape_items(py, planes, "planes", Takes::Only(ShapeKind::Plane))?;
+        let (cylinders, c) =
+            shape_items(py, cylinders, "cylinders", Takes::Only(ShapeKind::Cylinder))?;
+        let (containers, k) = shape_items(
+            py,
+            containers,
+            "containers",
+            Takes::Only(ShapeKind::Container),
+        )?;
         let n = spheres.store.len();
         memory::check(
             &format!("Scene: {n} spheres"),
@@ -74,27 +80,7 @@ impl Scene {
         )?;
         let scene = RustScene {
             spheres: spheres.store.clone(),
-            planes: p
-                .into_iter()
-                .filter_map(|s| match s {
-                    AnyStatic::Plane(p) => Some(p),
-                    _ => None,
-                })
-                .collect(),
-            cylinders: c
-                .into_iter()
-                .filter_map(|s| match s {
-                    AnyStatic::Cylinder(c) => Some(c),
-                    _ => None,
-                })
-                .collect(),
-            containers: k
-                .into_iter()
-                .filter_map(|s| match s {
-                    AnyStatic::Container(k) => Some(k),
-                    _ => None,
-                })
-                .collect(),
+            statics: p.into_iter().chain(c).chain(k).collect(),
         };
         Ok(Self {
             scene,
@@ -143,11 +129,12 @@ impl Scene {
     fn __repr__(&self) -> String {
         let s = &self.scene;
         format!(
-            "Scene(<{} spheres, {} planes, {} cylinders, {} containers>)",
+            "Scene(<{} spheres, {}>)",
             s.spheres.len(),
-            s.planes.len(),
-            s.cylinders.len(),
-            s.containers.len()
+            (s.statics.counts().into_iter())
+                .map(|(kind, n)| format!("{n} {kind}s"))
+                .collect::<Vec<_>>()
+                .join(", ")
         )
     }
 }

@@ -4,6 +4,8 @@
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 
+use spheresweep::{ShapeKind, Static};
+
 use crate::args::{real, wrong_type};
 use crate::arrays::vector3;
 use crate::batch::value_error;
@@ -173,64 +175,46 @@ impl Container {
     }
 }
 
-/// A static shape handed over from Python.
-#[derive(Clone, Copy)]
-pub(crate) enum AnyStatic {
-    Plane(spheresweep::Plane),
-    Cylinder(spheresweep::Cylinder),
-    Container(spheresweep::Container),
-}
-
 /// Which kinds of shape an argument takes.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Takes {
-    /// Any of the three (`static_times`' `shapes`).
+    /// Any static kind (`static_times`' `shapes`).
     Any,
-    /// Planes only (`planes=`).
-    Planes,
-    /// Cylinders only (`cylinders=`).
-    Cylinders,
-    /// Containers only (`containers=`).
-    Containers,
+    /// One kind only (`planes=`, `cylinders=`, `containers=`).
+    Only(ShapeKind),
 }
 
 impl Takes {
-    fn describe(self) -> &'static str {
+    fn describe(self) -> String {
         match self {
-            Takes::Any => "a Plane, Cylinder or Container",
-            Takes::Planes => "a Plane",
-            Takes::Cylinders => "a Cylinder",
-            Takes::Containers => "a Container",
+            Takes::Any => "a Plane, Cylinder or Container".into(),
+            Takes::Only(kind) => {
+                let name = kind.name();
+                format!("a {}{}", name[..1].to_uppercase(), &name[1..])
+            }
         }
     }
 
-    fn accepts(self, shape: &AnyStatic) -> bool {
-        matches!(
-            (self, shape),
-            (Takes::Any, _)
-                | (Takes::Planes, AnyStatic::Plane(_))
-                | (Takes::Cylinders, AnyStatic::Cylinder(_))
-                | (Takes::Containers, AnyStatic::Container(_))
-        )
+    fn accepts(self, shape: &Static) -> bool {
+        match self {
+            Takes::Any => true,
+            Takes::Only(kind) => shape.kind() == kind,
+        }
     }
 }
 
 /// `obj` as a static shape of a kind `takes` accepts, or a `TypeError` naming `name`.
-pub(crate) fn static_shape(
-    obj: &Bound<'_, PyAny>,
-    name: &str,
-    takes: Takes,
-) -> PyResult<AnyStatic> {
+pub(crate) fn static_shape(obj: &Bound<'_, PyAny>, name: &str, takes: Takes) -> PyResult<Static> {
     let shape = if let Ok(p) = obj.cast::<Plane>() {
-        Some(AnyStatic::Plane(p.get().shape))
+        Some(Static::from(p.get().shape))
     } else if let Ok(c) = obj.cast::<Cylinder>() {
-        Some(AnyStatic::Cylinder(c.get().shape))
+        Some(Static::from(c.get().shape))
     } else if let Ok(k) = obj.cast::<Container>() {
-        Some(AnyStatic::Container(k.get().shape))
+        Some(Static::from(k.get().shape))
     } else {
         None
     };
     shape
         .filter(|s| takes.accepts(s))
-        .ok_or_else(|| wrong_type(name, takes.describe(), obj))
+        .ok_or_else(|| wrong_type(name, &takes.describe(), obj))
 }

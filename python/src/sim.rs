@@ -13,8 +13,9 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
+use spheresweep::ShapeKind;
 use spheresweep::io::scene_file::{SceneFile, SceneFileError};
-use spheresweep::sim::{self, Boundary, Fixed, SphereState, World, generate};
+use spheresweep::sim::{self, Boundary, SphereState, World, generate};
 
 use crate::args::{self, count, flag, optional, real, show, uint64};
 use crate::arrays::{Expect, floats, row3};
@@ -23,7 +24,7 @@ use crate::effects::{material_index, material_pair, scene_response};
 use crate::memory;
 use crate::results::{KIND_NONE, kind_code, put_column};
 use crate::scene::shape_items;
-use crate::shapes::{AnyStatic, Takes};
+use crate::shapes::Takes;
 
 create_exception!(
     spheresweep,
@@ -238,11 +239,7 @@ fn add_shapes<'py>(
         let one = PyTuple::new(py, [shape])?;
         let (_, shapes) = shape_items(py, Some(one.as_any()), &label, takes)
             .map_err(|e| rename_item(py, e, &format!("{label}[0]"), &label))?;
-        match shapes[0] {
-            AnyStatic::Plane(shape) => world.planes.push(Fixed { shape, material }),
-            AnyStatic::Cylinder(shape) => world.cylinders.push(Fixed { shape, material }),
-            AnyStatic::Container(shape) => world.containers.push(Fixed { shape, material }),
-        }
+        world.statics.push_static(shapes[0], material);
     }
     PyTuple::new(py, list)
 }
@@ -265,9 +262,7 @@ fn name_materials(world: &mut World) {
         .spheres
         .iter()
         .map(|s| s.material)
-        .chain(world.planes.iter().map(|p| p.material))
-        .chain(world.cylinders.iter().map(|c| c.material))
-        .chain(world.containers.iter().map(|c| c.material))
+        .chain(world.statics.iter().map(|(_, _, &m)| m))
         .chain(world.effects.pairs.iter().flat_map(|p| [p.a, p.b]))
         .max()
         .unwrap_or(0);
@@ -430,9 +425,9 @@ impl Simulation {
         let mut world = spheres_world(centres, velocities, radii, masses, materials)?;
         let kwargs = PyDict::new(py);
         for (items, name, takes) in [
-            (planes, "planes", Takes::Planes),
-            (cylinders, "cylinders", Takes::Cylinders),
-            (containers, "containers", Takes::Containers),
+            (planes, "planes", Takes::Only(ShapeKind::Plane)),
+            (cylinders, "cylinders", Takes::Only(ShapeKind::Cylinder)),
+            (containers, "containers", Takes::Only(ShapeKind::Container)),
         ] {
             kwargs.set_item(name, add_shapes(py, &mut world, items, name, takes)?)?;
         }

@@ -20,7 +20,7 @@ pub use options::QueryOptions;
 pub use pairs::{
     earliest_sphere_contact, one_against_times, pair_times, time_of_impact, zip_times,
 };
-pub use statics::{StaticShape, earliest_static_contacts, static_times};
+pub use statics::{StaticShape, earliest_static_contacts, static_times, static_times_any};
 
 use crate::contact::{Body, Contact};
 

@@ -11,6 +11,7 @@ use crate::kernels::against_static;
 use crate::kernels::quadratic::Solver;
 use crate::lanes::Lanes;
 pub use crate::statics::StaticShape;
+use crate::statics::{ShapeFn, Static};
 use crate::store::SphereStore;
 
 struct AgainstOne<'a, L: Lanes, S, K: StaticShape> {
@@ -77,6 +78,44 @@ pub fn static_times<K: StaticShape>(
         run::<K>(spheres, shape, options.t_max(), out)
     );
     Ok(())
+}
+
+/// [`static_times`] for one shape of a kind known at run time ([`Static`]).
+///
+/// # Errors
+/// If `out` does not have one slot per sphere.
+///
+/// ```
+/// use spheresweep::{Plane, QueryOptions, Sphere, SphereStore, Static, batch::static_times_any};
+/// let floor = Static::from(Plane::new([0.0; 3], [0.0, 0.0, 1.0])?);
+/// let balls = SphereStore::from_spheres(&[Sphere::new([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 1.0, 1.0)?]);
+/// let mut out = [0.0];
+/// static_times_any(&balls, &floor, QueryOptions::default(), &mut out)?;
+/// assert_eq!(out, [2.0]);
+/// # Ok::<(), spheresweep::Error>(())
+/// ```
+pub fn static_times_any(
+    spheres: &SphereStore,
+    shape: &Static,
+    options: QueryOptions,
+    out: &mut [f32],
+) -> Result<(), BatchError> {
+    struct Times<'a> {
+        spheres: &'a SphereStore,
+        options: QueryOptions,
+        out: &'a mut [f32],
+    }
+    impl ShapeFn for Times<'_> {
+        type Output = Result<(), BatchError>;
+        fn call<K: StaticShape>(self, shape: &K) -> Self::Output {
+            static_times(self.spheres, shape, self.options, self.out)
+        }
+    }
+    shape.apply(Times {
+        spheres,
+        options,
+        out,
+    })
 }
 
 /// For every sphere of `spheres`, its earliest contact with any of `shapes` (ties: the

@@ -896,7 +896,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             e.u8(u8::from(b.complete));
             e.f64(b.wall_t);
-            e.u8(b.wall.kind as u8);
+            e.u8(b.wall.kind.code());
             e.u32(b.wall.index);
             e.f64(b.cross_t);
             e.u8(b.cross_axis);
@@ -1009,12 +1009,9 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             b.complete = d.u8()? != 0;
             b.wall_t = d.f64()?;
-            let kind = match d.u8()? {
-                1 => ShapeKind::Plane,
-                2 => ShapeKind::Cylinder,
-                3 => ShapeKind::Container,
-                k => return Err(bad(format!("sphere {id}: static shape kind {k}"))),
-            };
+            let code = d.u8()?;
+            let kind = (ShapeKind::from_code(code).filter(|&k| k != ShapeKind::Sphere))
+                .ok_or_else(|| bad(format!("sphere {id}: static shape kind {code}")))?;
             b.wall = Body::new(kind, d.u32()?);
             if b.wall_t != f64::INFINITY && self.walls.get(b.wall).is_none() {
                 return Err(bad(format!("sphere {id}: {} does not exist", b.wall)));

@@ -13,7 +13,7 @@ use glam::DVec3;
 use spheresweep::query::first_contacts;
 use spheresweep::scene::{Scene, demo};
 use spheresweep::sim::{Simulation, SphereState, demo_world};
-use spheresweep::{Accuracy, QueryOptions};
+use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions};
 
 use crate::picture::{
     self, Canvas, Content, Format, Key, Paint, Panel, Path as Trajectory, Rgb, Shapes, Size, View,
@@ -115,11 +115,9 @@ fn table(args: &Args) -> Result<(), Box<dyn Error>> {
 
 fn describe(s: &Scene) -> String {
     format!(
-        "Built-in scene: {} spheres, {} plane(s), {} cylinder(s), {} container(s).",
+        "Built-in scene: {} spheres, {}.",
         s.spheres.len(),
-        s.planes.len(),
-        s.cylinders.len(),
-        s.containers.len()
+        crate::statics_text(&s.statics)
     )
 }
 
@@ -186,8 +184,8 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
             .collect()
     };
     let tracked: Vec<usize> = [pick(GLASS), pick(GLUE)].concat();
-    let vessel = world.containers[0].shape;
-    let floor = world.planes[0].shape.point().z;
+    let vessel = world.statics.of::<Container>().shapes()[0];
+    let floor = world.statics.of::<Plane>().shapes()[0].point().z;
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
@@ -196,7 +194,7 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
         n - glue_count,
         world.spheres[0].radius,
         vessel.radius(),
-        world.cylinders.len()
+        world.statics.of::<Cylinder>().len()
     )?;
     writeln!(
         out,

@@ -82,3 +82,12 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// How many static shapes of each kind, as the summaries print it: `1 plane(s), 3
+/// cylinder(s), 1 container(s)`.
+fn statics_text<P>(statics: &spheresweep::Statics<P>) -> String {
+    let each: Vec<String> = (statics.counts().into_iter())
+        .map(|(kind, n)| format!("{n} {kind}(s)"))
+        .collect();
+    each.join(", ")
+}

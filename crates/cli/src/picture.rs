@@ -36,9 +36,7 @@ pub fn top_view(
     contacts: &[Option<FirstContact>],
     t_max: f32,
 ) -> Result<String, Box<dyn Error>> {
-    let extent = scene
-        .containers
-        .iter()
+    let extent = (scene.statics.of::<Container>().shapes().iter())
         .map(|k| k.centre().truncate().length() + k.radius())
         .chain(
             scene
@@ -65,7 +63,7 @@ pub fn top_view(
             .light_line_style(WHITE)
             .draw()?;
         let grey = RGBColor(120, 120, 120);
-        for k in &scene.containers {
+        for k in scene.statics.of::<Container>().shapes() {
             let c = k.centre();
             let ring = circle(c.x.into(), c.y.into(), k.radius().into());
             chart.draw_series(std::iter::once(PathElement::new(
@@ -73,14 +71,14 @@ pub fn top_view(
                 grey.stroke_width(2),
             )))?;
         }
-        for cyl in &scene.cylinders {
+        for cyl in scene.statics.of::<Cylinder>().shapes() {
             let (p, s) = (cyl.point(), cyl.axis());
             if s.z.abs() > 0.99 {
                 let disk = circle(p.x.into(), p.y.into(), cyl.radius().into());
                 chart.draw_series(std::iter::once(Polygon::new(disk, grey.mix(0.5).filled())))?;
             }
         }
-        for plane in &scene.planes {
+        for plane in scene.statics.of::<Plane>().shapes() {
             let (p, n) = (plane.point(), plane.normal());
             if n.z.abs() < 0.01 {
                 // A vertical plane is a line seen from above.
@@ -202,9 +200,9 @@ impl Shapes {
     /// The shapes of a simulation world.
     pub fn of_world(world: &spheresweep::sim::World) -> Self {
         Self {
-            planes: world.planes.iter().map(|p| p.shape).collect(),
-            cylinders: world.cylinders.iter().map(|p| p.shape).collect(),
-            containers: world.containers.iter().map(|p| p.shape).collect(),
+            planes: world.statics.of::<Plane>().shapes().to_vec(),
+            cylinders: world.statics.of::<Cylinder>().shapes().to_vec(),
+            containers: world.statics.of::<Container>().shapes().to_vec(),
             periodic_box: match world.boundary {
                 spheresweep::sim::Boundary::Periodic { size } => Some(size),
                 _ => None,

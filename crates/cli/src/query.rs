@@ -367,14 +367,12 @@ fn peak_memory_mib() -> Option<f64> {
 }
 
 fn shapes_text(s: &Shapes) -> String {
-    let part = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
-    format!(
-        "{} ({}, {}, {})",
-        part(s.len(), "shape", "shapes"),
-        part(s.planes.len(), "plane", "planes"),
-        part(s.cylinders.len(), "cylinder", "cylinders"),
-        part(s.containers.len(), "container", "containers"),
-    )
+    let n = s.len();
+    let shapes = if n == 1 { "shape" } else { "shapes" };
+    let each: Vec<String> = (s.counts().into_iter())
+        .map(|(kind, k)| format!("{k} {kind}{}", if k == 1 { "" } else { "s" }))
+        .collect();
+    format!("{n} {shapes} ({})", each.join(", "))
 }
 
 /// Bytes one row of a chunk holds at most, from the types that hold it: its input columns

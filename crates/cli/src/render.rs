@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use rayon::prelude::*;
+use spheresweep::ShapeKind;
 use spheresweep::io::scene_file::SceneFile;
 use spheresweep::io::xyz::{self, Frame};
 use spheresweep::sim::SphereState;
@@ -274,17 +275,19 @@ fn shape_keys(world: &spheresweep::sim::World) -> Vec<(Key, String)> {
         )
     };
     let mut keys = Vec::new();
-    if !world.planes.is_empty() {
-        let m = world.planes.iter().map(|p| p.material).collect();
-        keys.push((Key::Swatch(floor), named(m, "plane", "planes")));
-    }
-    if !world.cylinders.is_empty() {
-        let m = world.cylinders.iter().map(|c| c.material).collect();
-        keys.push((Key::Swatch(pillar), named(m, "cylinder", "cylinders")));
-    }
-    if !world.containers.is_empty() {
-        let m = world.containers.iter().map(|c| c.material).collect();
-        keys.push((Key::Swatch(vessel), named(m, "container", "containers")));
+    for (kind, swatch) in [
+        (ShapeKind::Plane, floor),
+        (ShapeKind::Cylinder, pillar),
+        (ShapeKind::Container, vessel),
+    ] {
+        let m: Vec<u16> = (world.statics.iter())
+            .filter(|(b, _, _)| b.kind == kind)
+            .map(|(_, _, &m)| m)
+            .collect();
+        if !m.is_empty() {
+            let many = format!("{kind}s");
+            keys.push((Key::Swatch(swatch), named(m, kind.name(), &many)));
+        }
     }
     let (periodic, region) = picture::BOX_COLOURS;
     match world.boundary {

@@ -13,7 +13,7 @@ use common::{bin, fresh_dir, repo};
 use glam::DVec3;
 use spheresweep::Container;
 use spheresweep::sim::{
-    Effects, Fixed, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
+    Effects, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
 };
 
 #[test]
@@ -166,10 +166,7 @@ fn every_sphere_in_one_cell_finishes() {
     spheres.push(sphere(DVec3::ZERO, DVec3::ZERO, 6.0, 0));
     let world = World {
         spheres,
-        containers: vec![Fixed {
-            shape: Container::new([0.0; 3], 10.0).unwrap(),
-            material: 0,
-        }],
+        statics: spheresweep::Statics::new().with(Container::new([0.0; 3], 10.0).unwrap(), 0),
         ..World::default()
     };
     let mut sim = Simulation::new(world).unwrap();
@@ -197,10 +194,7 @@ fn everything_stuck_in_one_cluster_finishes() {
     .unwrap();
     let world = World {
         spheres,
-        containers: vec![Fixed {
-            shape: Container::new([0.0; 3], 4.0).unwrap(),
-            material: 0,
-        }],
+        statics: spheresweep::Statics::new().with(Container::new([0.0; 3], 4.0).unwrap(), 0),
         // Glue (material 1) sticks to glue; the vessel (material 0) is elastic, so that the
         // clusters keep moving and meet.
         materials: vec!["vessel".into(), "glue".into()],

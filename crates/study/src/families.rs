@@ -467,6 +467,7 @@ fn well_conditioned(rng: &mut Rng, kind: ShapeKind) -> Pair {
             let frac = rng.range(0.0, 0.9);
             container_scene(rng, DVec3::ZERO, frac)
         }
+        other => unimplemented!("no family of {other} pairs yet"),
     }
 }
 
@@ -489,6 +490,7 @@ fn window_edge(rng: &mut Rng, kind: ShapeKind, k: u32) -> Case {
                 let frac = rng.range(0.0, 0.9);
                 container_scene(rng, DVec3::ZERO, frac)
             }
+            other => unimplemented!("no family of {other} pairs yet"),
         };
         let Some(t) = Exact::of(&pair).time(f64::INFINITY).filter(|t| *t > 0.0) else {
             continue;

@@ -111,6 +111,7 @@ impl Inputs {
             Shape::Plane(p) => (p.point(), p.normal(), 0.0),
             Shape::Cylinder(c) => (c.point(), c.axis(), c.radius()),
             Shape::Container(k) => (k.centre(), glam::Vec3::ZERO, k.radius()),
+            other => unimplemented!("no oracle for {} pairs yet", other.kind()),
         };
         values[7..10].copy_from_slice(&a.to_array());
         let kind = pair.other.kind();
@@ -157,6 +158,7 @@ impl Inputs {
             ShapeKind::Sphere | ShapeKind::Cylinder => 14,
             ShapeKind::Plane => 13,
             ShapeKind::Container => 11,
+            other => unimplemented!("no oracle for {other} pairs yet"),
         }
     }
 
@@ -264,6 +266,7 @@ impl Inputs {
             ShapeKind::Plane => Shape::Plane(Plane::new(at(7), at(10)).ok()?),
             ShapeKind::Cylinder => Shape::Cylinder(Cylinder::from_axis(at(7), at(10), v[13]).ok()?),
             ShapeKind::Container => Shape::Container(Container::new(at(7), v[10]).ok()?),
+            _ => return None,
         };
         Some(Pair { sphere, other })
     }
@@ -355,6 +358,7 @@ impl Exact {
                 let cc = dot(&x, &x) - &xs * &xs / &ss - &d * &d;
                 (a, b, cc, d, Side::Exterior)
             }
+            other => unimplemented!("no oracle for {other} pairs yet"),
         };
         let q = &b * &b - &a * &cc;
         Self {

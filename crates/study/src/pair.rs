@@ -119,7 +119,8 @@ impl Paths for Pair {
                 let pose = Pose::from_parts(centre.as_vec3(), rotation);
                 Some(cast(&pose, Vector::ZERO, &long))
             }
-            Shape::Container(_) => None,
+            // parry has no hollow sphere to be inside of; nor a kind added after these.
+            _ => None,
         }
     }
 }

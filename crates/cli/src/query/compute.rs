@@ -10,35 +10,14 @@ use rayon::prelude::*;
 
 use spheresweep::batch::{StaticShape, earliest_static_contacts, static_times, zip_times};
 use spheresweep::contact::{Contact, contact_at};
+use spheresweep::statics::{OfKind, Visitor};
 use spheresweep::store::Columns;
-use spheresweep::{
-    Container, Cylinder, Plane, QueryOptions, Shape, ShapeKind, SphereStore, StoreError,
-};
+use spheresweep::{Body, QueryOptions, Shape, ShapeKind, SphereStore, Statics, StoreError};
 
 use super::layout::{Chunk, KIND_NONE, Results};
 
 /// The static shapes of `--against`, by kind, each in file order.
-#[derive(Debug, Clone, Default)]
-pub struct Shapes {
-    /// Planes.
-    pub planes: Vec<Plane>,
-    /// Infinite cylinders.
-    pub cylinders: Vec<Cylinder>,
-    /// Spherical containers.
-    pub containers: Vec<Container>,
-}
-
-impl Shapes {
-    /// Shapes in all.
-    pub fn len(&self) -> usize {
-        self.planes.len() + self.cylinders.len() + self.containers.len()
-    }
-
-    /// Whether there is no shape at all.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
+pub type Shapes = Statics;
 
 /// What one chunk took and found.
 #[derive(Debug, Clone, Copy, Default)]
@@ -49,16 +28,6 @@ pub struct Tally {
     pub validating: Duration,
     /// Time spent in the batch entry points and on the contact geometry.
     pub querying: Duration,
-}
-
-/// The code of a kind in the `kind` column.
-pub fn kind_code(kind: ShapeKind) -> u8 {
-    match kind {
-        ShapeKind::Sphere => 4,
-        ShapeKind::Plane => 1,
-        ShapeKind::Cylinder => 2,
-        ShapeKind::Container => 3,
-    }
 }
 
 /// Rows validated into one store by one parallel task, and answered by one call of the
@@ -209,7 +178,7 @@ fn offer<K: StaticShape>(
     times: &mut Vec<f32>,
 ) -> Result<(), String> {
     let options = options.with_geometry(false);
-    let code = kind_code(K::KIND);
+    let code = K::KIND.code();
     if shapes.len() <= ONE_BY_ONE {
         times.resize(store.len(), 0.0);
         for (j, shape) in (0u32..).zip(shapes) {
@@ -233,6 +202,29 @@ fn offer<K: StaticShape>(
     Ok(())
 }
 
+/// [`offer`] for each kind of shape in turn, in tie order; the first error is kept.
+struct Offer<'a> {
+    store: &'a SphereStore,
+    options: QueryOptions,
+    best: &'a mut [Best],
+    times: &'a mut Vec<f32>,
+    result: Result<(), String>,
+}
+
+impl Visitor<()> for Offer<'_> {
+    fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, ()>) {
+        if self.result.is_ok() {
+            self.result = offer(
+                self.store,
+                shapes.shapes(),
+                self.options,
+                self.best,
+                self.times,
+            );
+        }
+    }
+}
+
 /// Every sphere of a spheres chunk (`names` its 7 columns) against every shape: the earliest
 /// contact's time, kind and index (ties: planes, cylinders, containers, then the lowest
 /// index), geometry if asked for.
@@ -253,21 +245,24 @@ pub fn statics(
     for (range, store) in &stores {
         best.clear();
         best.resize(range.len(), (f32::INFINITY, KIND_NONE, 0));
-        offer(store, &shapes.planes, options, &mut best, &mut times)?;
-        offer(store, &shapes.cylinders, options, &mut best, &mut times)?;
-        offer(store, &shapes.containers, options, &mut best, &mut times)?;
+        let mut each = Offer {
+            store,
+            options,
+            best: &mut best,
+            times: &mut times,
+            result: Ok(()),
+        };
+        shapes.visit(&mut each);
+        each.result?;
         for (i, &(time, kind, index)) in best.iter().enumerate() {
             let hit = time.is_finite();
             out.time.push(time);
             out.kind.push(if hit { kind } else { KIND_NONE });
             out.index.push(if hit { i64::from(index) } else { -1 });
             if options.geometry() {
-                let shape: Option<Shape> = match kind {
-                    1 => shapes.planes.get(index as usize).map(|&s| s.into()),
-                    2 => shapes.cylinders.get(index as usize).map(|&s| s.into()),
-                    3 => shapes.containers.get(index as usize).map(|&s| s.into()),
-                    _ => None,
-                };
+                let shape: Option<Shape> = ShapeKind::from_code(kind)
+                    .and_then(|k| shapes.get(Body::new(k, index)))
+                    .map(|(s, ())| s.into());
                 let g = match (hit, shape, store.get(i)) {
                     (true, Some(shape), Some(sphere)) => {
                         geometry_row(&contact_at(&sphere, &shape, f64::from(time)))

@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use spheresweep::ShapeKind;
+
 /// What the rows of an input file are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Layout {
@@ -211,10 +213,10 @@ impl OutColumn {
     }
 }
 
-/// The code of a shape kind in the `kind` column of the binary formats.
-pub const KIND_NONE: u8 = 0;
+/// The code of "no contact" in the `kind` column of the binary formats (the shapes have
+/// the library's `ShapeKind::code`).
+pub const KIND_NONE: u8 = ShapeKind::NONE_CODE;
 
-/// The name of a `kind` code in CSV output.
 /// What is wrong with an input value beyond `f32`'s range, in every format's messages.
 pub fn beyond_f32(value: impl fmt::Display) -> String {
     format!("{value} is beyond the range of f32 (magnitudes up to 3.4e38)")
@@ -227,12 +229,11 @@ pub fn narrow(v: f64) -> Option<f32> {
     (x.is_finite() || !v.is_finite()).then_some(x)
 }
 
+/// The name of a `kind` code in CSV output.
 pub fn kind_name(code: u8) -> &'static str {
-    match code {
-        1 => "plane",
-        2 => "cylinder",
-        3 => "container",
-        _ => "none",
+    match ShapeKind::from_code(code) {
+        Some(kind) => kind.name(),
+        None => "none",
     }
 }
 

@@ -50,11 +50,7 @@ pub fn read(path: &Path) -> Result<Shapes, String> {
     // Spheres in a shapes file are built (and ignored): refuse a count too large for memory.
     crate::memory::check_scene(path, &scene, size_of::<spheresweep::sim::SphereState>())?;
     let (world, _) = scene.build().map_err(|e| at(&e))?;
-    let shapes = Shapes {
-        planes: world.planes.iter().map(|f| f.shape).collect(),
-        cylinders: world.cylinders.iter().map(|f| f.shape).collect(),
-        containers: world.containers.iter().map(|f| f.shape).collect(),
-    };
+    let shapes = world.statics.map(|_, _| ());
     if shapes.is_empty() {
         return Err(no_shapes(path));
     }

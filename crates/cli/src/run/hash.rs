@@ -36,8 +36,8 @@ pub fn world(w: &World) -> u64 {
     }
     // Debug prints every float so that it reads back bit for bit.
     let rest = format!(
-        "{:?}{:?}{:?}{:?}{:?}{:?}",
-        w.planes, w.cylinders, w.containers, w.boundary, w.materials, w.effects
+        "{:?}{:?}{:?}{:?}",
+        w.statics, w.boundary, w.materials, w.effects
     );
     h.update(rest.as_bytes());
     h.finalize()

@@ -28,13 +28,11 @@ pub struct About {
 impl About {
     pub fn of(scene: &Path, world: &World) -> Self {
         let describe = format!(
-            "{}: {} spheres, {} material(s), {} plane(s), {} cylinder(s), {} container(s), {}",
+            "{}: {} spheres, {} material(s), {}, {}",
             scene.display(),
             world.spheres.len(),
             world.materials.len(),
-            world.planes.len(),
-            world.cylinders.len(),
-            world.containers.len(),
+            crate::statics_text(&world.statics),
             match world.boundary {
                 Boundary::Open => "open".to_string(),
                 Boundary::OpenBox { lo, hi } => format!(
@@ -50,7 +48,7 @@ impl About {
             scene: scene.display().to_string(),
             describe,
             spheres: world.spheres.len(),
-            walls: world.planes.len() + world.cylinders.len() + world.containers.len(),
+            walls: world.statics.len(),
             elastic: world.effects.response == Response::Elastic && world.effects.pairs.is_empty(),
             equal_radii: world.spheres.windows(2).all(|w| w[0].radius == w[1].radius),
             sphere_volume: world
