@@ -84,8 +84,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .ok_or_else(|| format!("--svg {} has no file name", svg.display()))?;
     // Render both first, then replace the files: a failure leaves the old ones whole.
     let (markdown, picture) = (report.markdown(svg_name), report.svg()?);
-    crate::output::write_atomic(&svg, picture.as_bytes())?;
-    crate::output::write_atomic(&args.out, markdown.as_bytes())?;
+    crate::atomic::write_atomic(&svg, picture.as_bytes())?;
+    crate::atomic::write_atomic(&args.out, markdown.as_bytes())?;
     println!(
         "{:<9} {:>12} {:>26}",
         "path", "M pairs/s", "worst p99 geometric error"

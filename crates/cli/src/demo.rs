@@ -107,7 +107,7 @@ fn table(args: &Args) -> Result<(), Box<dyn Error>> {
     }
     if let Some(path) = &args.svg {
         let picture = picture::top_view(&scene, &contacts, t_max)?;
-        crate::output::write_atomic(path, picture.as_bytes())?;
+        crate::atomic::write_atomic(path, picture.as_bytes())?;
         writeln!(out, "\nwrote {}", path.display())?;
     }
     Ok(())
@@ -379,7 +379,7 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     let mut wrote = Vec::new();
     for (path, ext) in files.iter().zip(Format::Both.extensions()) {
         let bytes = Format::encode(&canvas, ext)?;
-        crate::output::write_atomic(path, &bytes)?;
+        crate::atomic::write_atomic(path, &bytes)?;
         wrote.push(path.display().to_string());
     }
     writeln!(

@@ -12,15 +12,14 @@
 //! - `layout`: the columns of each layout, chunks and results;
 //! - `compute`: a chunk through the library;
 //! - `shapes`: the shapes file (the scene file's shape tables);
-//! - `csv`, `npy`, `columnar` (feature `parquet`): the formats;
-//! - `staged`: outputs that appear whole or not at all.
+//! - `csv`, `npy`, `columnar` (feature `parquet`): the formats, each output written whole or
+//!   not at all (`crate::atomic`).
 
 mod compute;
 mod csv;
 mod layout;
 mod npy;
 mod shapes;
-mod staged;
 #[cfg(test)]
 mod tests;
 

@@ -383,7 +383,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         crate::output::not_an_input(path, &inputs)?;
     }
     crate::output::check_writable(&outputs[0])?;
-    crate::output::remove_stale_temporaries(&outputs);
+    crate::atomic::remove_stale_temporaries(&outputs);
 
     let used: Vec<u16> = {
         let mut m: Vec<u16> = chosen
@@ -420,7 +420,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 let path = dir.join(format!("{}.{ext}", p.stem));
                 let existed = path.exists();
                 let bytes = Format::encode(&canvas, ext)?;
-                crate::output::write_atomic(&path, &bytes)?;
+                crate::atomic::write_atomic(&path, &bytes)?;
                 written.push((path, !existed));
             }
             Ok(written)

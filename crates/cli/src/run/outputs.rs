@@ -199,7 +199,7 @@ impl OutDir {
             let name = entry.file_name().to_string_lossy().into_owned();
             if ALL
                 .iter()
-                .any(|o| name.starts_with(&format!(".{o}.")) && name.ends_with(".tmp"))
+                .any(|o| crate::atomic::is_temporary_of(&name, Path::new(o)).is_some())
             {
                 let _ = std::fs::remove_file(entry.path());
             }

@@ -317,7 +317,7 @@ pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
     dir.replace_outputs(staged.into_iter().flatten().collect(), &summary.run)?;
     let json_path = dir.file(outputs::SUMMARY);
     let text = serde_json::to_string_pretty(&summary)?;
-    crate::output::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
+    crate::atomic::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
     wrote.push(json_path.display().to_string());
     let mut out = std::io::stdout().lock();
     summary.print(&mut out, about, run.counters.momentum_scale)?;
