@@ -1,5 +1,5 @@
 //! An output written as the run goes: appended to `.NAME.partial` in the output directory and
-//! renamed to `NAME` when the run completes. Its length and the hash of its bytes are kept as
+//! renamed to `NAME` when the run completes (`crate::atomic::persist`). Its length and the hash of its bytes are kept as
 //! it is written, so that a checkpoint records how far it had got, and a resume finds the same
 //! bytes, cuts what came after, and appends from there: neither memory nor the checkpoint holds
 //! the outputs.
@@ -43,9 +43,10 @@ impl Write for Hashed {
 /// its partial file is removed.
 pub struct Staged {
     path: PathBuf,
+    /// Declared before `partial`, so that it is closed before the partial file is removed.
+    out: BufWriter<Hashed>,
     /// The partial file: removed when dropped, unless kept or renamed into place.
     partial: TempPath,
-    out: BufWriter<Hashed>,
 }
 
 impl Staged {
@@ -119,8 +120,8 @@ impl Staged {
         let hashed = Hashed { file, len, hash };
         Ok(Self {
             path,
-            partial,
             out: BufWriter::with_capacity(1 << 20, hashed),
+            partial,
         })
     }
 
@@ -161,7 +162,7 @@ impl Staged {
     /// Renames the finished output into place. Should that fail, the partial file stays for a
     /// resume from the last checkpoint.
     pub fn commit(self) -> Result<(), String> {
-        let Self { path, partial, out } = self;
+        let Self { path, out, partial } = self;
         let hashed = match out.into_inner() {
             Ok(hashed) => hashed,
             Err(e) => {
