@@ -6,8 +6,8 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMetho
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use spheresweep::batch;
 use spheresweep::Accuracy;
+use spheresweep::batch;
 
 use crate::args::{self, instance, optional};
 use crate::arrays::indices;

@@ -3,7 +3,6 @@
 use std::error::Error;
 use std::path::PathBuf;
 
-use indicatif::{ProgressBar, ProgressStyle};
 use spheresweep_study::{self as study, Path};
 
 /// Options of `spheresweep accuracy`.
@@ -53,10 +52,11 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     crate::output::check_writable(&svg)?;
     crate::checkout::refuse_tracked(&args.out, "--out", args.force)?;
     crate::checkout::refuse_tracked(&svg, "--svg", args.force)?;
-    let bar = ProgressBar::new((study::Family::ALL.len() + study::SWEPT.len()) as u64 + 1);
-    bar.set_style(ProgressStyle::with_template(
+    let bar = crate::progress::bar(
+        (study::Family::ALL.len() + study::SWEPT.len()) as u64 + 1,
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
-    )?);
+        false,
+    )?;
     bar.set_message("families against the exact oracle, then throughput");
     // The study cannot stop half-way: Ctrl-C or SIGTERM ends the process at once, before
     // anything is written. The handler is in place before the study is announced.
@@ -84,8 +84,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .ok_or_else(|| format!("--svg {} has no file name", svg.display()))?;
     // Render both first, then replace the files: a failure leaves the old ones whole.
     let (markdown, picture) = (report.markdown(svg_name), report.svg()?);
-    crate::output::write_atomic(&svg, picture.as_bytes())?;
-    crate::output::write_atomic(&args.out, markdown.as_bytes())?;
+    crate::atomic::write_atomic(&svg, picture.as_bytes())?;
+    crate::atomic::write_atomic(&args.out, markdown.as_bytes())?;
     println!(
         "{:<9} {:>12} {:>26}",
         "path", "M pairs/s", "worst p99 geometric error"

@@ -8,6 +8,7 @@ use std::hint::black_box;
 use std::io::Write;
 use std::time::{Duration, Instant};
 
+use indicatif::ProgressBar;
 use spheresweep::broad::{Grid, GridOptions};
 use spheresweep::query::SceneQuery;
 use spheresweep::scene::Scene;
@@ -85,13 +86,11 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         (11, Duration::from_millis(60))
     };
     let mut lines = Vec::new();
-    let progress = indicatif::ProgressBar::new(if args.quick { 8 } else { 12 });
-    progress.set_style(indicatif::ProgressStyle::with_template(
+    let progress = crate::progress::bar(
+        if args.quick { 8 } else { 12 },
         "{spinner} {wide_bar} {pos}/{len} {msg}",
-    )?);
-    if args.json {
-        progress.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
+        args.json,
+    )?;
     if args.sim {
         progress.set_length(if args.quick { 6 } else { 10 });
         sim_lines(&mut lines, args, &progress);
@@ -111,12 +110,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     Ok(())
 }
 
-fn narrow_lines(
-    lines: &mut Vec<Line>,
-    rounds: usize,
-    min: Duration,
-    progress: &indicatif::ProgressBar,
-) {
+fn narrow_lines(lines: &mut Vec<Line>, rounds: usize, min: Duration, progress: &ProgressBar) {
     let n = 4096;
     let mut out = vec![0.0f32; n];
     let pairs = narrow::SpherePairs::new(n, 1);
@@ -204,7 +198,7 @@ fn broad_lines(
     quick: bool,
     rounds: usize,
     min: Duration,
-    progress: &indicatif::ProgressBar,
+    progress: &ProgressBar,
 ) {
     let sizes: &[usize] = if quick {
         &[10_000, 100_000]
@@ -291,7 +285,7 @@ fn broad_lines(
 /// The event-driven engine on the peer's gas, ours and the peer alternately (best of the
 /// repetitions each), in ns per collision; the cost of declared but unused effects; and bytes
 /// per sphere at N = 10⁶.
-fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &indicatif::ProgressBar) {
+fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
     use spheresweep_bench::sim;
     const GROUP: &str = "simulation: ns per collision, hard-sphere gas from FCC (peer: Smallenburg EDMD \"Single\", gcc -Ofast -march=native)";
     let (reps, small, large) = if args.quick {

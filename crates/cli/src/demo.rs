@@ -12,7 +12,7 @@ use std::time::Instant;
 use glam::DVec3;
 use spheresweep::query::first_contacts;
 use spheresweep::scene::{Scene, demo};
-use spheresweep::sim::{Simulation, SphereState, demo_world};
+use spheresweep::sim::{Simulation, SphereState, Stats, World, demo_world};
 use spheresweep::{Accuracy, Container, Cylinder, Plane, QueryOptions};
 
 use crate::picture::{
@@ -107,7 +107,7 @@ fn table(args: &Args) -> Result<(), Box<dyn Error>> {
     }
     if let Some(path) = &args.svg {
         let picture = picture::top_view(&scene, &contacts, t_max)?;
-        crate::output::write_atomic(path, picture.as_bytes())?;
+        crate::atomic::write_atomic(path, picture.as_bytes())?;
         writeln!(out, "\nwrote {}", path.display())?;
     }
     Ok(())
@@ -153,172 +153,29 @@ const GLUE_PATH: Rgb = Rgb::hex(0x7a0010);
 fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     // Ctrl-C and SIGTERM from here on stop the simulation at its next poll.
     crate::interrupt::install()?;
-    // The outputs are checked before any work.
-    let dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("spheresweep-demo"));
-    if dir.exists() && !dir.is_dir() {
-        return Err(format!("--out {}: not a directory", dir.display()).into());
-    }
-    let files: Vec<PathBuf> = Format::Both
-        .extensions()
-        .iter()
-        .map(|ext| dir.join(format!("demo.{ext}")))
-        .collect();
-    for f in &files {
-        crate::output::check_writable(f)?;
-    }
-
+    let files = picture_paths(args)?;
     let world = demo_world();
     let shapes = Shapes {
         ground: true,
         ..Shapes::of_world(&world)
     };
     let n = world.spheres.len();
-    let glue_count = world.spheres.iter().filter(|s| s.material == GLUE).count();
-    let pick = |m: u16| -> Vec<usize> {
-        (0..n)
-            .filter(|&i| world.spheres[i].material == m)
-            .take(TRACKED)
-            .collect()
-    };
-    let tracked: Vec<usize> = [pick(GLASS), pick(GLUE)].concat();
+    let tracked = tracked(&world);
     let vessel = world.statics.of::<Container>().shapes()[0];
     let floor = world.statics.of::<Plane>().shapes()[0].point().z;
     let mut out = std::io::stdout().lock();
-    writeln!(
-        out,
-        "spheresweep demo: {n} beads ({} glass, {glue_count} glue) of radius {} in a spherical vessel \
-         of radius {}, over a floor at z = {floor} and around {} pillars; no gravity.",
-        n - glue_count,
-        world.spheres[0].radius,
-        vessel.radius(),
-        world.statics.of::<Cylinder>().len()
-    )?;
-    writeln!(
-        out,
-        "Glue sticks to glue and to the floor; every other collision is elastic.\n"
-    )?;
-    out.flush()?;
-
+    introduce(&mut out, &world)?;
     let t_end = if args.quick { T_QUICK } else { T_END };
     let mut sim = Simulation::new(world)?;
     let ke0 = sim.kinetic_energy();
-    let start = sim.spheres();
-    let mut paths: Vec<Vec<DVec3>> = tracked.iter().map(|&i| vec![start[i].centre]).collect();
-
-    let bar = crate::progress::SimProgress::new(t_end, args.quiet, 1, true)?;
-    let started = Instant::now();
-    let mut worst = (0.0f64, 0.0f64);
-    for k in 1..=SAMPLES {
-        let stop = t_end * k as f64 / SAMPLES as f64;
-        let finished = sim.advance_with(stop, &mut |t, s| {
-            bar.show(t, s) && !crate::interrupt::requested()
-        })? && !crate::interrupt::requested();
-        if !finished {
-            bar.finish();
-            let s = sim.stats();
-            return Err(crate::interrupt::Interrupted(format!(
-                "at t = {:.1} of {t_end} after {} collisions; no picture written (earlier ones \
-                 kept)",
-                sim.time(),
-                s.pair_collisions + s.wall_collisions
-            ))
-            .into());
-        }
-        bar.show(sim.time(), sim.stats());
-        // The state every run keeps, at each sample: a breach is the demo's error.
-        let state = sim.check_invariant()?;
-        worst = (worst.0.max(state.pairs), worst.1.max(state.walls));
-        let now = sim.spheres();
-        for (path, &i) in paths.iter_mut().zip(&tracked) {
-            path.push(now[i].centre);
-        }
-    }
-    let seconds = started.elapsed().as_secs_f64();
-    bar.finish();
-
-    // The summary.
-    let stats = *sim.stats();
-    let spheres = sim.spheres();
-    let clusters = sim.clusters();
-    let ke1 = sim.kinetic_energy();
-    let collisions = stats.pair_collisions + stats.wall_collisions;
-    let resting = |s: &SphereState| s.material == GLUE && s.velocity == DVec3::ZERO;
-    let at_rest = spheres.iter().filter(|s| resting(s)).count();
-    let in_clusters: usize = clusters.iter().map(Vec::len).sum();
-    let largest = clusters.iter().map(Vec::len).max().unwrap_or(0);
-    let k = stats.kernels;
-    let ran: Vec<&str> = [
-        ("sphere", k.sphere),
-        ("plane", k.plane),
-        ("cylinder", k.cylinder),
-        ("container", k.container),
-    ]
-    .iter()
-    .filter(|(_, c)| *c > 0)
-    .map(|(name, _)| *name)
-    .collect();
-    writeln!(
-        out,
-        "engine       {} (event-driven: every collision in time order)",
-        sim.engine_name()
-    )?;
-    writeln!(
-        out,
-        "simulated    t = 0 → {t_end} in {seconds:.2} s of wall time{}",
-        if args.quick {
-            " (--quick: a tenth of the run)"
-        } else {
-            ""
-        }
-    )?;
-    writeln!(
-        out,
-        "collisions   {} bead–bead and {} bead–wall: {collisions} in all, {} per second",
-        stats.pair_collisions,
-        stats.wall_collisions,
-        si(collisions as f64 / seconds.max(1e-9))
-    )?;
-    writeln!(
-        out,
-        "clusters     {} glue clusters formed ({} joins), holding {in_clusters} of the {glue_count} glue beads; \
-         the largest has {largest}; {at_rest} glue beads rest on the floor",
-        clusters.len(),
-        stats.joins
-    )?;
-    writeln!(
-        out,
-        "energy       {:.1} of {ke0:.1} lost in sticky collisions ({:.1} %); \
-         start − end − lost = {:+.1e} of the start",
-        stats.energy_lost,
-        100.0 * stats.energy_lost / ke0,
-        (ke0 - ke1 - stats.energy_lost) / ke0
-    )?;
-    writeln!(
-        out,
-        "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}: {} ran",
-        k.sphere,
-        k.plane,
-        k.cylinder,
-        k.container,
-        if ran.len() == 4 {
-            "all four".to_string()
-        } else {
-            ran.join(", ")
-        }
-    )?;
-    if collisions > 0 {
-        writeln!(
-            out,
-            "max overlap  at collisions {:.1e} of the contact distance (pairs), {:.1e} of the \
-             radius (walls); in the state, checked {SAMPLES} times, {:.1e} and {:.1e} of the \
-             tolerance",
-            stats.max_overlap, stats.max_wall_overlap, worst.0, worst.1
-        )?;
-    }
-    out.flush()?;
+    let sampled = advance(&mut sim, args, t_end, &tracked)?;
+    let End {
+        spheres,
+        clusters,
+        collisions,
+        at_rest,
+    } = summarise(&mut out, &sim, args, ke0, &sampled)?;
+    let paths = sampled.paths;
 
     // The picture.
     let mut cluster_of = vec![usize::MAX; n];
@@ -377,7 +234,7 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     let mut wrote = Vec::new();
     for (path, ext) in files.iter().zip(Format::Both.extensions()) {
         let bytes = Format::encode(&canvas, ext)?;
-        crate::output::write_atomic(path, &bytes)?;
+        crate::atomic::write_atomic(path, &bytes)?;
         wrote.push(path.display().to_string());
     }
     writeln!(
@@ -391,6 +248,235 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
         TRACKED
     )?;
     Ok(())
+}
+
+/// The pictures' paths, `demo.svg` and `demo.png` in `--out`, checked before any work.
+fn picture_paths(args: &Args) -> Result<Vec<PathBuf>, Box<dyn Error>> {
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("spheresweep-demo"));
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("--out {}: not a directory", dir.display()).into());
+    }
+    let files: Vec<PathBuf> = Format::Both
+        .extensions()
+        .iter()
+        .map(|ext| dir.join(format!("demo.{ext}")))
+        .collect();
+    for f in &files {
+        crate::output::check_writable(f)?;
+    }
+    Ok(files)
+}
+
+/// The beads whose paths are drawn: the first [`TRACKED`] glass, then the first glue ones.
+fn tracked(world: &World) -> Vec<usize> {
+    let n = world.spheres.len();
+    let pick = |m: u16| -> Vec<usize> {
+        (0..n)
+            .filter(|&i| world.spheres[i].material == m)
+            .take(TRACKED)
+            .collect()
+    };
+    [pick(GLASS), pick(GLUE)].concat()
+}
+
+/// The lines that say what is simulated, before the run.
+fn introduce(out: &mut impl Write, world: &World) -> std::io::Result<()> {
+    let n = world.spheres.len();
+    let glue_count = world.spheres.iter().filter(|s| s.material == GLUE).count();
+    let vessel = world.statics.of::<Container>().shapes()[0];
+    let floor = world.statics.of::<Plane>().shapes()[0].point().z;
+    writeln!(
+        out,
+        "spheresweep demo: {n} beads ({} glass, {glue_count} glue) of radius {} in a spherical vessel \
+         of radius {}, over a floor at z = {floor} and around {} pillars; no gravity.",
+        n - glue_count,
+        world.spheres[0].radius,
+        vessel.radius(),
+        world.statics.of::<Cylinder>().len()
+    )?;
+    writeln!(
+        out,
+        "Glue sticks to glue and to the floor; every other collision is elastic.\n"
+    )?;
+    out.flush()
+}
+
+/// What the run gathered as it went.
+struct Sampled {
+    /// The tracked beads' centres at time 0 and at each sample.
+    paths: Vec<Vec<DVec3>>,
+    /// Wall time of the run.
+    seconds: f64,
+    /// The deepest overlaps in the state over the samples, pairs and walls, each of its
+    /// tolerance.
+    worst: (f64, f64),
+}
+
+/// Runs the simulation to `t_end` in [`SAMPLES`] steps behind the progress bar, checking the
+/// state and sampling the tracked beads at each; an interruption is the demo's error.
+fn advance(
+    sim: &mut Simulation,
+    args: &Args,
+    t_end: f64,
+    tracked: &[usize],
+) -> Result<Sampled, Box<dyn Error>> {
+    let start = sim.spheres();
+    let mut paths: Vec<Vec<DVec3>> = tracked.iter().map(|&i| vec![start[i].centre]).collect();
+    let bar = crate::progress::SimProgress::new(t_end, args.quiet, 1, true)?;
+    let started = Instant::now();
+    let mut worst = (0.0f64, 0.0f64);
+    for k in 1..=SAMPLES {
+        let stop = t_end * k as f64 / SAMPLES as f64;
+        let finished = sim.advance_with(stop, &mut |t, s| {
+            bar.show(t, s) && !crate::interrupt::requested()
+        })? && !crate::interrupt::requested();
+        if !finished {
+            bar.finish();
+            let s = sim.stats();
+            return Err(crate::interrupt::Interrupted(format!(
+                "at t = {:.1} of {t_end} after {} collisions; no picture written (earlier ones \
+                 kept)",
+                sim.time(),
+                s.pair_collisions + s.wall_collisions
+            ))
+            .into());
+        }
+        bar.show(sim.time(), sim.stats());
+        // The state every run keeps, at each sample: a breach is the demo's error.
+        let state = sim.check_invariant()?;
+        worst = (worst.0.max(state.pairs), worst.1.max(state.walls));
+        let now = sim.spheres();
+        for (path, &i) in paths.iter_mut().zip(tracked) {
+            path.push(now[i].centre);
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    bar.finish();
+    Ok(Sampled {
+        paths,
+        seconds,
+        worst,
+    })
+}
+
+/// A glue bead resting on the floor (stuck there, not moving).
+fn resting(s: &SphereState) -> bool {
+    s.material == GLUE && s.velocity == DVec3::ZERO
+}
+
+/// The state at the end, as the summary counts it and the picture shows it.
+struct End {
+    spheres: Vec<SphereState>,
+    clusters: Vec<Vec<u32>>,
+    /// Pair and wall collisions.
+    collisions: u64,
+    /// Glue beads resting on the floor.
+    at_rest: usize,
+}
+
+/// Prints the summary of the run.
+fn summarise(
+    out: &mut impl Write,
+    sim: &Simulation,
+    args: &Args,
+    ke0: f64,
+    sampled: &Sampled,
+) -> Result<End, Box<dyn Error>> {
+    let (seconds, worst) = (sampled.seconds, sampled.worst);
+    let t_end = if args.quick { T_QUICK } else { T_END };
+    let stats = *sim.stats();
+    let spheres = sim.spheres();
+    let clusters = sim.clusters();
+    let ke1 = sim.kinetic_energy();
+    let collisions = stats.pair_collisions + stats.wall_collisions;
+    let glue_count = spheres.iter().filter(|s| s.material == GLUE).count();
+    let at_rest = spheres.iter().filter(|s| resting(s)).count();
+    let in_clusters: usize = clusters.iter().map(Vec::len).sum();
+    let largest = clusters.iter().map(Vec::len).max().unwrap_or(0);
+    writeln!(
+        out,
+        "engine       {} (event-driven: every collision in time order)",
+        sim.engine_name()
+    )?;
+    writeln!(
+        out,
+        "simulated    t = 0 → {t_end} in {seconds:.2} s of wall time{}",
+        if args.quick {
+            " (--quick: a tenth of the run)"
+        } else {
+            ""
+        }
+    )?;
+    writeln!(
+        out,
+        "collisions   {} bead–bead and {} bead–wall: {collisions} in all, {} per second",
+        stats.pair_collisions,
+        stats.wall_collisions,
+        si(collisions as f64 / seconds.max(1e-9))
+    )?;
+    writeln!(
+        out,
+        "clusters     {} glue clusters formed ({} joins), holding {in_clusters} of the {glue_count} glue beads; \
+         the largest has {largest}; {at_rest} glue beads rest on the floor",
+        clusters.len(),
+        stats.joins
+    )?;
+    writeln!(
+        out,
+        "energy       {:.1} of {ke0:.1} lost in sticky collisions ({:.1} %); \
+         start − end − lost = {:+.1e} of the start",
+        stats.energy_lost,
+        100.0 * stats.energy_lost / ke0,
+        (ke0 - ke1 - stats.energy_lost) / ke0
+    )?;
+    write_kernels(out, &stats)?;
+    if collisions > 0 {
+        writeln!(
+            out,
+            "max overlap  at collisions {:.1e} of the contact distance (pairs), {:.1e} of the \
+             radius (walls); in the state, checked {SAMPLES} times, {:.1e} and {:.1e} of the \
+             tolerance",
+            stats.max_overlap, stats.max_wall_overlap, worst.0, worst.1
+        )?;
+    }
+    out.flush()?;
+    Ok(End {
+        spheres,
+        clusters,
+        collisions,
+        at_rest,
+    })
+}
+
+/// The summary's line of kernel calls, naming the kinds that ran.
+fn write_kernels(out: &mut impl Write, stats: &Stats) -> std::io::Result<()> {
+    let k = stats.kernels;
+    let ran: Vec<&str> = [
+        ("sphere", k.sphere),
+        ("plane", k.plane),
+        ("cylinder", k.cylinder),
+        ("container", k.container),
+    ]
+    .iter()
+    .filter(|(_, c)| *c > 0)
+    .map(|(name, _)| *name)
+    .collect();
+    writeln!(
+        out,
+        "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}: {} ran",
+        k.sphere,
+        k.plane,
+        k.cylinder,
+        k.container,
+        if ran.len() == 4 {
+            "all four".to_string()
+        } else {
+            ran.join(", ")
+        }
+    )
 }
 
 /// Half-thickness of the side view's slice.

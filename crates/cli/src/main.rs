@@ -1,6 +1,7 @@
 //! The `spheresweep` command-line tool: one subcommand a file.
 
 mod accuracy;
+mod atomic;
 mod bench;
 mod checkout;
 mod demo;

@@ -1,9 +1,24 @@
-//! The progress bar of the subcommands that simulate (`run`, `demo`): on stderr, only when it
-//! is a terminal and `--quiet` is not given; it follows simulated time.
+//! Progress bars on stderr, for every subcommand that shows one (`run`, `demo`, `accuracy`,
+//! `bench`): [`bar`] makes one, hidden when asked (`--quiet`, `--json`) or when stderr is not a
+//! terminal; [`SimProgress`] is the bar of the subcommands that simulate, following simulated
+//! time.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use spheresweep::sim::Stats;
 use std::io::IsTerminal;
+
+pub use indicatif::style::TemplateError;
+
+/// A bar of `len` steps drawn with the indicatif `template`; hidden when `hidden` is true or
+/// stderr is not a terminal.
+pub fn bar(len: u64, template: &str, hidden: bool) -> Result<ProgressBar, TemplateError> {
+    let bar = ProgressBar::new(len);
+    if hidden || !std::io::stderr().is_terminal() {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    bar.set_style(ProgressStyle::with_template(template)?);
+    Ok(bar)
+}
 
 /// A bar from time 0 to `t_end`.
 pub struct SimProgress {
@@ -21,14 +36,12 @@ impl SimProgress {
         quiet: bool,
         decimals: usize,
         show_end: bool,
-    ) -> Result<Self, indicatif::style::TemplateError> {
-        let bar = ProgressBar::new(1000);
-        if quiet || !std::io::stderr().is_terminal() {
-            bar.set_draw_target(ProgressDrawTarget::hidden());
-        }
-        bar.set_style(ProgressStyle::with_template(
+    ) -> Result<Self, TemplateError> {
+        let bar = bar(
+            1000,
             "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}",
-        )?);
+            quiet,
+        )?;
         Ok(Self {
             bar,
             t_end,

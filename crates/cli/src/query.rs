@@ -12,15 +12,14 @@
 //! - `layout`: the columns of each layout, chunks and results;
 //! - `compute`: a chunk through the library;
 //! - `shapes`: the shapes file (the scene file's shape tables);
-//! - `csv`, `npy`, `columnar` (feature `parquet`): the formats;
-//! - `staged`: outputs that appear whole or not at all.
+//! - `csv`, `npy`, `columnar` (feature `parquet`): the formats, each output written whole or
+//!   not at all (`crate::atomic`).
 
 mod compute;
 mod csv;
 mod layout;
 mod npy;
 mod shapes;
-mod staged;
 #[cfg(test)]
 mod tests;
 
@@ -393,104 +392,182 @@ fn row_bytes(input_columns: usize) -> u64 {
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
-    // Everything that can be refused is refused before any output exists.
-    let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(args.geometry);
-    if !(1..=MAX_CHUNK_ROWS).contains(&args.chunk_rows) {
-        return Err(format!(
-            "--chunk-rows {} must be between 1 and {MAX_CHUNK_ROWS}",
-            args.chunk_rows
-        )
-        .into());
-    }
-    let shapes = args.against.as_deref().map(shapes::read).transpose()?;
-    let layout = if shapes.is_some() {
-        Layout::Spheres
-    } else {
-        Layout::Pairs
-    };
-    crate::memory::check(
-        &format!("--chunk-rows {}", args.chunk_rows),
-        (args.chunk_rows as u64).saturating_mul(row_bytes(layout.columns().len())),
-    )?;
-    let input = Input::detect(&args.input)?;
-    let (out_path, output) = match &args.out {
-        Some(p) => (p.clone(), Output::from_path(p)?),
-        None => input.default_output(),
-    };
-    // The output is none of the inputs, through a link or not; a directory of columns,
-    // replaced whole, holds none of them.
-    let mut inputs = input.paths();
-    inputs.extend(args.against.as_deref());
-    crate::output::not_an_input(&out_path, &inputs)?;
-    if output == Output::NpyDir {
-        crate::output::no_input_inside(&out_path, &inputs)?;
-    }
-    let mut source = input.open(layout, args.chunk_rows)?;
-    let columns = OutColumn::of(layout, args.geometry);
+    let plan = Plan::of(args)?;
+    let mut source = plan.input.open(plan.layout, args.chunk_rows)?;
+    let columns = OutColumn::of(plan.layout, args.geometry);
     let column_names: Vec<&str> = columns.iter().map(|c| c.name()).collect();
-    let mut sink = output.create(&out_path, columns)?;
+    let mut sink = plan.output.create(&plan.out_path, columns)?;
 
     let start = Instant::now();
-    let [mut reading, mut validating, mut querying, mut writing] = [Duration::ZERO; 4];
-    let (mut chunks, mut rows, mut contacts) = (0u64, 0u64, 0u64);
+    crate::interrupt::install()?;
+    let mut totals = stream(args, &plan, source.as_mut(), sink.as_mut())?;
+    let written = sink.path().display().to_string();
+    let t = Instant::now();
+    sink.commit()?;
+    totals.writing += t.elapsed();
+    totals.total = start.elapsed();
+    let mut out = std::io::stdout().lock();
+    report(&mut out, args, &plan, &totals)?;
+    writeln!(
+        out,
+        "output      {written}: {}, columns {}",
+        plan.output.name(),
+        column_names.join(", ")
+    )?;
+    Ok(())
+}
+
+/// What a query reads, computes and writes: every part that can be refused is refused here,
+/// before any output exists.
+struct Plan {
+    options: QueryOptions,
+    /// The shapes of `--against`; none for a pairs file.
+    shapes: Option<Shapes>,
+    layout: Layout,
+    input: Input,
+    out_path: PathBuf,
+    output: Output,
+}
+
+impl Plan {
+    fn of(args: &Args) -> Result<Self, Box<dyn Error>> {
+        let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(args.geometry);
+        if !(1..=MAX_CHUNK_ROWS).contains(&args.chunk_rows) {
+            return Err(format!(
+                "--chunk-rows {} must be between 1 and {MAX_CHUNK_ROWS}",
+                args.chunk_rows
+            )
+            .into());
+        }
+        let shapes = args.against.as_deref().map(shapes::read).transpose()?;
+        let layout = if shapes.is_some() {
+            Layout::Spheres
+        } else {
+            Layout::Pairs
+        };
+        crate::memory::check(
+            &format!("--chunk-rows {}", args.chunk_rows),
+            (args.chunk_rows as u64).saturating_mul(row_bytes(layout.columns().len())),
+        )?;
+        let input = Input::detect(&args.input)?;
+        let (out_path, output) = match &args.out {
+            Some(p) => (p.clone(), Output::from_path(p)?),
+            None => input.default_output(),
+        };
+        // The output is none of the inputs, through a link or not; a directory of columns,
+        // replaced whole, holds none of them.
+        let mut inputs = input.paths();
+        inputs.extend(args.against.as_deref());
+        crate::output::not_an_input(&out_path, &inputs)?;
+        if output == Output::NpyDir {
+            crate::output::no_input_inside(&out_path, &inputs)?;
+        }
+        Ok(Self {
+            options,
+            shapes,
+            layout,
+            input,
+            out_path,
+            output,
+        })
+    }
+}
+
+/// What a query did: counts, and the time spent in each stage.
+#[derive(Debug, Default)]
+struct Totals {
+    chunks: u64,
+    rows: u64,
+    contacts: u64,
+    reading: Duration,
+    validating: Duration,
+    querying: Duration,
+    writing: Duration,
+    /// From the first read to the output in place.
+    total: Duration,
+}
+
+/// Reads, queries and writes the input a chunk at a time until it is exhausted, checking for
+/// an interruption before each chunk.
+fn stream(
+    args: &Args,
+    plan: &Plan,
+    source: &mut dyn Source,
+    sink: &mut dyn Sink,
+) -> Result<Totals, Box<dyn Error>> {
+    let layout = plan.layout;
+    let mut totals = Totals::default();
     let mut chunk = Chunk::new(layout.columns().len());
     let mut results = Results::default();
-    let label = input.label();
-    crate::interrupt::install()?;
+    let label = plan.input.label();
     loop {
         if crate::interrupt::requested() {
             return Err(crate::interrupt::Interrupted(format!(
-                "after {chunks} chunks ({rows} rows) of {label}; nothing written, {} untouched",
-                out_path.display()
+                "after {} chunks ({} rows) of {label}; nothing written, {} untouched",
+                totals.chunks,
+                totals.rows,
+                plan.out_path.display()
             ))
             .into());
         }
         let t = Instant::now();
         let more = source.next(args.chunk_rows, &mut chunk)?;
-        reading += t.elapsed();
+        totals.reading += t.elapsed();
         if !more {
             break;
         }
-        let tally = match &shapes {
-            None => compute::pairs(&chunk, layout.columns(), options, &mut results),
-            Some(s) => compute::statics(&chunk, layout.columns(), s, options, &mut results),
+        let tally = match &plan.shapes {
+            None => compute::pairs(&chunk, layout.columns(), plan.options, &mut results),
+            Some(s) => compute::statics(&chunk, layout.columns(), s, plan.options, &mut results),
         }
         .map_err(|e| format!("{label}: {e}"))?;
-        validating += tally.validating;
-        querying += tally.querying;
+        totals.validating += tally.validating;
+        totals.querying += tally.querying;
         let t = Instant::now();
         sink.write(&results)?;
-        writing += t.elapsed();
-        chunks += 1;
-        rows += chunk.rows() as u64;
-        contacts += tally.contacts as u64;
+        totals.writing += t.elapsed();
+        totals.chunks += 1;
+        totals.rows += chunk.rows() as u64;
+        totals.contacts += tally.contacts as u64;
     }
     if let Some(expected) = source.total_rows()
-        && expected != rows
+        && expected != totals.rows
     {
-        return Err(
-            format!("{label}: read {rows} rows of the {expected} the file declares").into(),
-        );
+        return Err(format!(
+            "{label}: read {} rows of the {expected} the file declares",
+            totals.rows
+        )
+        .into());
     }
-    let written = sink.path().display().to_string();
-    let t = Instant::now();
-    sink.commit()?;
-    writing += t.elapsed();
-    let total = start.elapsed();
+    Ok(totals)
+}
 
+/// Prints what was queried, the contacts found, the time and throughput, and the peak memory.
+fn report(
+    out: &mut impl Write,
+    args: &Args,
+    plan: &Plan,
+    totals: &Totals,
+) -> Result<(), Box<dyn Error>> {
+    let Totals {
+        chunks,
+        rows,
+        contacts,
+        ..
+    } = *totals;
+    let (shapes, label) = (&plan.shapes, plan.input.label());
     let per_row = shapes.as_ref().map_or(1, Shapes::len) as f64;
     let tests = rows as f64 * per_row;
-    let mut out = std::io::stdout().lock();
-    match &shapes {
+    match shapes {
         None => writeln!(
             out,
             "input       {label}: {}, {rows} pairs",
-            input.format_name()
+            plan.input.format_name()
         )?,
         Some(s) => writeln!(
             out,
             "input       {label}: {}, {rows} spheres against {}",
-            input.format_name(),
+            plan.input.format_name(),
             shapes_text(s)
         )?,
     }
@@ -518,7 +595,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     writeln!(
         out,
         "contacts    {contacts} of {rows} {} ({share:.2}%)",
-        layout.rows_noun()
+        plan.layout.rows_noun()
     )?;
     let unit = if shapes.is_some() {
         "sphere-shape pairs/s"
@@ -526,31 +603,26 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "pairs/s"
     };
     let secs = |d: Duration| d.as_secs_f64();
+    let t = totals;
     writeln!(
         out,
         "time        {:.3} s: reading {:.3}, validating {:.3}, querying {:.3}, writing {:.3}",
-        secs(total),
-        secs(reading),
-        secs(validating),
-        secs(querying),
-        secs(writing)
+        secs(t.total),
+        secs(t.reading),
+        secs(t.validating),
+        secs(t.querying),
+        secs(t.writing)
     )?;
     writeln!(
         out,
         "throughput  {} {unit} excluding I/O (validating and querying), {} including it; {} \
          in the queries alone",
-        rate(tests, secs(validating + querying)),
-        rate(tests, secs(total)),
-        rate(tests, secs(querying)),
+        rate(tests, secs(t.validating + t.querying)),
+        rate(tests, secs(t.total)),
+        rate(tests, secs(t.querying)),
     )?;
     if let Some(mib) = peak_memory_mib() {
         writeln!(out, "peak memory {mib:.0} MiB")?;
     }
-    writeln!(
-        out,
-        "output      {written}: {}, columns {}",
-        output.name(),
-        column_names.join(", ")
-    )?;
     Ok(())
 }

@@ -306,18 +306,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     // The input, and everything asked of it, before any output.
     let kind = kind_of(&args.input)?;
     let views = args.view.list();
-    let size = args.size.unwrap_or(if views.len() == 2 {
-        Size {
-            width: 1600,
-            height: 800,
-        }
-    } else {
-        Size {
-            width: 800,
-            height: 800,
-        }
-    });
-    let name = file_name(&args.input);
+    let size = picture_size(args.size, views);
     let Record {
         frames,
         chosen,
@@ -333,8 +322,71 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
 
     // Every picture shares one view of the whole record, so that a sequence stays still.
     let bounds = picture::bounds(frames.iter().flat_map(|f| &f.spheres), &shapes);
+    let pictures = pictures(args, &kind, &frames, &chosen, bounds);
+    let dir = checked_outputs(args, &pictures, scene_path.as_deref())?;
+    let legend = legend(&frames, &chosen, &material_names, shape_keys);
+    // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
+    // one is whole (written under a temporary name and renamed).
+    crate::interrupt::install()?;
+    let extensions = args.format.extensions();
+    let results: Vec<Result<Vec<(PathBuf, bool)>, String>> = pictures
+        .par_iter()
+        .map(|p| {
+            if crate::interrupt::requested() {
+                return Ok(Vec::new());
+            }
+            let canvas = draw(size, views, p, &shapes, bounds, &legend);
+            let mut written = Vec::new();
+            for ext in extensions {
+                let path = dir.join(format!("{}.{ext}", p.stem));
+                let existed = path.exists();
+                let bytes = Format::encode(&canvas, ext)?;
+                crate::atomic::write_atomic(&path, &bytes)?;
+                written.push((path, !existed));
+            }
+            Ok(written)
+        })
+        .collect();
+    let written = all_or_none(results)?;
+    let files = written.len();
+    if files < pictures.len() * extensions.len() {
+        return Err(crate::interrupt::Interrupted(format!(
+            "after {files} of {} pictures: those are whole and kept in {}, the rest not drawn",
+            pictures.len() * extensions.len(),
+            dir.display()
+        ))
+        .into());
+    }
+    report(note, &written, size)?;
+    Ok(())
+}
+
+/// `--size`, by default 1600×800 for both views and 800×800 for one.
+fn picture_size(asked: Option<Size>, views: &[View]) -> Size {
+    asked.unwrap_or(if views.len() == 2 {
+        Size {
+            width: 1600,
+            height: 800,
+        }
+    } else {
+        Size {
+            width: 800,
+            height: 800,
+        }
+    })
+}
+
+/// The pictures to draw, one per chosen frame: file stems and titles.
+fn pictures<'a>(
+    args: &Args,
+    kind: &Input,
+    frames: &'a [Frame],
+    chosen: &[usize],
+    bounds: (DVec3, DVec3),
+) -> Vec<Picture<'a>> {
+    let name = file_name(&args.input);
     let digits = frames.len().saturating_sub(1).to_string().len().max(4);
-    let pictures: Vec<Picture> = chosen
+    chosen
         .iter()
         .map(|&k| {
             let f = &frames[k];
@@ -363,9 +415,16 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 },
             }
         })
-        .collect();
+        .collect()
+}
 
-    // The outputs: checked, then written.
+/// The output directory, checked with every picture's path (none is an input, the directory
+/// can be written) and rid of the temporaries a killed render left there.
+fn checked_outputs(
+    args: &Args,
+    pictures: &[Picture],
+    scene_path: Option<&Path>,
+) -> Result<PathBuf, Box<dyn Error>> {
     let dir = args.out.clone().unwrap_or_else(|| default_out(&args.input));
     if dir.exists() && !dir.is_dir() {
         return Err(format!("--out {}: not a directory", dir.display()).into());
@@ -380,14 +439,23 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         })
         .collect();
     let inputs: Vec<&Path> = std::iter::once(args.input.as_path())
-        .chain(scene_path.as_deref())
+        .chain(scene_path)
         .collect();
     for path in &outputs {
         crate::output::not_an_input(path, &inputs)?;
     }
     crate::output::check_writable(&outputs[0])?;
-    crate::output::remove_stale_temporaries(&outputs);
+    crate::atomic::remove_stale_temporaries(&outputs);
+    Ok(dir)
+}
 
+/// The legend: the materials of the chosen frames' spheres, by name, then the shapes' keys.
+fn legend(
+    frames: &[Frame],
+    chosen: &[usize],
+    material_names: &[String],
+    shape_keys: Vec<(Key, String)>,
+) -> Vec<(Key, String)> {
     let used: Vec<u16> = {
         let mut m: Vec<u16> = chosen
             .iter()
@@ -397,8 +465,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         m.dedup();
         m
     };
-    let legend: Vec<(Key, String)> = used
-        .iter()
+    used.iter()
         .map(|&m| {
             let label = material_names
                 .get(usize::from(m))
@@ -407,28 +474,14 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             (Key::Disk(colour(m)), label)
         })
         .chain(shape_keys)
-        .collect();
-    // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
-    // one is whole (written under a temporary name and renamed).
-    crate::interrupt::install()?;
-    let results: Vec<Result<Vec<(PathBuf, bool)>, String>> = pictures
-        .par_iter()
-        .map(|p| {
-            if crate::interrupt::requested() {
-                return Ok(Vec::new());
-            }
-            let canvas = draw(size, views, p, &shapes, bounds, &legend);
-            let mut written = Vec::new();
-            for ext in extensions {
-                let path = dir.join(format!("{}.{ext}", p.stem));
-                let existed = path.exists();
-                let bytes = Format::encode(&canvas, ext)?;
-                crate::output::write_atomic(&path, &bytes)?;
-                written.push((path, !existed));
-            }
-            Ok(written)
-        })
-        .collect();
+        .collect()
+}
+
+/// The pictures written, each with whether it is new; if one failed, the new ones are removed
+/// again and the first failure is the error.
+fn all_or_none(
+    results: Vec<Result<Vec<(PathBuf, bool)>, String>>,
+) -> Result<Vec<(PathBuf, bool)>, String> {
     let mut written = Vec::new();
     let mut failure = None;
     for r in results {
@@ -443,22 +496,19 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
                 let _ = std::fs::remove_file(path);
             }
         }
-        return Err(e.into());
+        return Err(e);
     }
+    Ok(written)
+}
+
+/// Prints the note on the input, if any, and the pictures written.
+fn report(note: Option<String>, written: &[(PathBuf, bool)], size: Size) -> std::io::Result<()> {
     let files = written.len();
-    if files < pictures.len() * extensions.len() {
-        return Err(crate::interrupt::Interrupted(format!(
-            "after {files} of {} pictures: those are whole and kept in {}, the rest not drawn",
-            pictures.len() * extensions.len(),
-            dir.display()
-        ))
-        .into());
-    }
     let mut out = std::io::stdout().lock();
     if let Some(note) = note {
         writeln!(out, "{note}")?;
     }
-    match written.as_slice() {
+    match written {
         [] => {}
         [(only, _)] => writeln!(out, "wrote {} ({size} px)", only.display())?,
         [(a, _), (b, _)] => writeln!(out, "wrote {} and {} ({size} px)", a.display(), b.display())?,

@@ -26,8 +26,8 @@ use parquet::basic::Compression;
 use parquet::file::properties::WriterProperties;
 
 use super::layout::{Chunk, Layout, OutColumn, OutType, Results, Values, beyond_f32, narrow};
-use super::staged::{StagedFile, finish_writer};
 use super::{Sink, Source, guarded};
+use crate::atomic::{AtomicFile, finish_writer};
 
 /// The codecs this build decodes, and the cargo feature of `parquet` another one needs.
 fn missing_codec(c: Compression) -> Option<(&'static str, &'static str)> {
@@ -303,7 +303,7 @@ fn batch(
 
 /// Results as a Parquet file: one snappy row group per chunk.
 pub struct ParquetSink {
-    staged: StagedFile,
+    staged: AtomicFile,
     writer: ArrowWriter<File>,
     schema: SchemaRef,
     columns: Vec<OutColumn>,
@@ -312,7 +312,8 @@ pub struct ParquetSink {
 impl ParquetSink {
     /// Starts the file under its temporary name.
     pub fn create(path: &Path, columns: Vec<OutColumn>) -> Result<Self, String> {
-        let staged = StagedFile::create(path)?;
+        crate::output::check_writable(path)?;
+        let staged = AtomicFile::create(path)?;
         let schema = schema(&columns);
         let props = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)
@@ -361,7 +362,7 @@ enum IpcWriter {
 
 /// Results as an Arrow IPC file (or stream, for `.arrows`): one record batch per chunk.
 pub struct IpcSink {
-    staged: StagedFile,
+    staged: AtomicFile,
     writer: IpcWriter,
     schema: SchemaRef,
     columns: Vec<OutColumn>,
@@ -370,7 +371,8 @@ pub struct IpcSink {
 impl IpcSink {
     /// Starts the file under its temporary name.
     pub fn create(path: &Path, columns: Vec<OutColumn>, stream: bool) -> Result<Self, String> {
-        let staged = StagedFile::create(path)?;
+        crate::output::check_writable(path)?;
+        let staged = AtomicFile::create(path)?;
         let schema = schema(&columns);
         let out = staged.writer()?;
         let writer = if stream {

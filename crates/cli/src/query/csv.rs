@@ -12,8 +12,8 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::layout::{Chunk, Layout, OutColumn, Results, Values, beyond_f32, kind_name};
-use super::staged::{StagedFile, finish_writer};
 use super::{Sink, Source};
+use crate::atomic::{AtomicFile, finish_writer};
 
 /// The fields of one line, as byte ranges of it (quotes removed; `""` inside a quoted field
 /// is kept as is and only matters to text columns, which are never read).
@@ -273,7 +273,7 @@ impl Source for CsvSource {
 
 /// CSV results: a header of the result columns, one line per input row.
 pub struct CsvSink {
-    staged: StagedFile,
+    staged: AtomicFile,
     out: BufWriter<File>,
     columns: Vec<OutColumn>,
 }
@@ -281,7 +281,8 @@ pub struct CsvSink {
 impl CsvSink {
     /// Starts the file (under its temporary name) with the header.
     pub fn create(path: &Path, columns: Vec<OutColumn>) -> Result<Self, String> {
-        let staged = StagedFile::create(path)?;
+        crate::output::check_writable(path)?;
+        let staged = AtomicFile::create(path)?;
         let mut out = staged.writer()?;
         let header: Vec<&str> = columns.iter().map(|c| c.name()).collect();
         writeln!(out, "{}", header.join(",")).map_err(|e| staged.error(e))?;

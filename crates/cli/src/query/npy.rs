@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use npyz::{NpyFile, NpyReader, Order, WriteOptions, WriterBuilder};
 
 use super::layout::{Chunk, Layout, OutColumn, Results, Values, beyond_f32, narrow};
-use super::staged::{StagedDir, StagedFile};
 use super::{Sink, Source, guarded};
+use crate::atomic::{AtomicDir, AtomicFile};
 
 type In = BufReader<File>;
 
@@ -474,14 +474,17 @@ impl ColumnWriter {
 
 /// Results as a directory of 1-D `.npy` arrays, one per result column.
 pub struct NpyDirSink {
-    staged: StagedDir,
+    staged: AtomicDir,
     columns: Vec<(OutColumn, File, ColumnWriter)>,
 }
 
 impl NpyDirSink {
-    /// Starts `<column>.npy` for every result column in the staged directory.
+    /// Starts `<column>.npy` for every result column in the staged directory. An existing
+    /// directory at `path` is replaced only if it holds nothing but column files a query
+    /// writes (an earlier result); anything else is refused before any work.
     pub fn create(path: &Path, columns: &[OutColumn]) -> Result<Self, String> {
-        let staged = StagedDir::create(path)?;
+        refuse_foreign(path)?;
+        let staged = AtomicDir::create(path)?;
         let mut open = Vec::with_capacity(columns.len());
         for &c in columns {
             let file = staged.create_file(&format!("{}.npy", c.name()))?;
@@ -493,6 +496,42 @@ impl NpyDirSink {
             columns: open,
         })
     }
+}
+
+/// Refuses a directory output whose path exists and is not a directory of result columns.
+fn refuse_foreign(path: &Path) -> Result<(), String> {
+    let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
+    if path.file_name().is_none() {
+        return Err(format!(
+            "cannot write {}: no directory name",
+            path.display()
+        ));
+    }
+    if !path.exists() {
+        return Ok(());
+    }
+    if !path.is_dir() {
+        return Err(format!(
+            "cannot write {}: it exists and is not a directory (results in .npy columns go to \
+             a directory)",
+            path.display()
+        ));
+    }
+    for entry in std::fs::read_dir(path).map_err(fail)? {
+        let entry = entry.map_err(fail)?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let ours = OutColumn::ALL
+            .iter()
+            .any(|c| name == format!("{}.npy", c.name()));
+        if !ours || !entry.path().is_file() {
+            return Err(format!(
+                "cannot write {}: the directory holds {name}, which is not a result column; \
+                 give a new directory (an earlier result is replaced whole)",
+                path.display()
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl Sink for NpyDirSink {
@@ -520,14 +559,15 @@ impl Sink for NpyDirSink {
 
 /// Results as one 1-D `.npy` array: only when the only result column is `time`.
 pub struct NpyFileSink {
-    staged: StagedFile,
+    staged: AtomicFile,
     writer: Option<npyz::NpyWriter<f32, Out>>,
 }
 
 impl NpyFileSink {
     /// Starts the array under its temporary name.
     pub fn create(path: &Path) -> Result<Self, String> {
-        let staged = StagedFile::create(path)?;
+        crate::output::check_writable(path)?;
+        let staged = AtomicFile::create(path)?;
         let writer = WriteOptions::new()
             .default_dtype()
             .writer(staged.writer()?)

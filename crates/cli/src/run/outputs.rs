@@ -26,9 +26,13 @@ pub const ALL: [&str; 4] = [TRAJECTORY, EVENTS, SUMMARY, CHECKPOINT];
 pub struct Manifest {
     /// The fingerprint of the scene's world (16 hexadecimal digits).
     pub fingerprint: String,
+    /// The end time asked for.
     pub t_end: f64,
+    /// The snapshot spacing; `None`: no snapshots.
     pub snapshot_every: Option<f64>,
+    /// Whether events are recorded.
     pub record_events: bool,
+    /// Whether the event rows carry the contact point and normal.
     pub geometry: bool,
     /// The files of the run in the directory.
     pub outputs: Vec<String>,
@@ -195,7 +199,7 @@ impl OutDir {
             let name = entry.file_name().to_string_lossy().into_owned();
             if ALL
                 .iter()
-                .any(|o| name.starts_with(&format!(".{o}.")) && name.ends_with(".tmp"))
+                .any(|o| crate::atomic::is_temporary_of(&name, Path::new(o)).is_some())
             {
                 let _ = std::fs::remove_file(entry.path());
             }

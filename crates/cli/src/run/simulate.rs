@@ -231,7 +231,7 @@ impl Run {
             events: progress(&mut self.events)?,
             engine: self.sim.checkpoint(),
         };
-        crate::output::write_atomic(&self.checkpoint_path(), &c.to_bytes())?;
+        crate::atomic::write_atomic(&self.checkpoint_path(), &c.to_bytes())?;
         self.checkpoints += 1;
         Ok(())
     }

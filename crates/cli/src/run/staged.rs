@@ -1,5 +1,5 @@
 //! An output written as the run goes: appended to `.NAME.partial` in the output directory and
-//! renamed to `NAME` when the run completes. Its length and the hash of its bytes are kept as
+//! renamed to `NAME` when the run completes (`crate::atomic::persist`). Its length and the hash of its bytes are kept as
 //! it is written, so that a checkpoint records how far it had got, and a resume finds the same
 //! bytes, cuts what came after, and appends from there: neither memory nor the checkpoint holds
 //! the outputs.
@@ -8,8 +8,11 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
+use tempfile::TempPath;
+
 use super::checkpoint::Progress;
 use super::hash::{self, Hasher};
+use crate::atomic::OnFailure;
 
 /// The partial file of the output at `path`: `.NAME.partial` beside it.
 pub fn partial_path(path: &Path) -> PathBuf {
@@ -40,8 +43,10 @@ impl Write for Hashed {
 /// its partial file is removed.
 pub struct Staged {
     path: PathBuf,
-    partial: PathBuf,
-    out: Option<BufWriter<Hashed>>,
+    /// Declared before `partial`, so that it is closed before the partial file is removed.
+    out: BufWriter<Hashed>,
+    /// The partial file: removed when dropped, unless kept or renamed into place.
+    partial: TempPath,
 }
 
 impl Staged {
@@ -49,7 +54,7 @@ impl Staged {
     pub fn create(path: PathBuf) -> Result<Self, String> {
         let partial = partial_path(&path);
         let file = File::create(&partial).map_err(|e| fail(&partial, e))?;
-        Ok(Self::open(path, partial, file, 0, hash::hasher()))
+        Self::open(path, partial, file, 0, hash::hasher())
     }
 
     /// Continues the output at `path` from where a checkpoint left it: its partial file must
@@ -100,34 +105,38 @@ impl Staged {
         file.set_len(progress.len)
             .and_then(|()| file.seek(SeekFrom::Start(progress.len)).map(|_| ()))
             .map_err(|e| refuse(e.to_string()))?;
-        Ok(Self::open(path, partial, file, progress.len, h))
+        Self::open(path, partial, file, progress.len, h)
     }
 
-    fn open(path: PathBuf, partial: PathBuf, file: File, len: u64, hash: Hasher) -> Self {
+    /// The output at `path` continued from `len` bytes in its partial file, open as `file`.
+    fn open(
+        path: PathBuf,
+        partial: PathBuf,
+        file: File,
+        len: u64,
+        hash: Hasher,
+    ) -> Result<Self, String> {
+        let partial = TempPath::try_from_path(partial).map_err(|e| fail(&path, e))?;
         let hashed = Hashed { file, len, hash };
-        Self {
+        Ok(Self {
             path,
+            out: BufWriter::with_capacity(1 << 20, hashed),
             partial,
-            out: Some(BufWriter::with_capacity(1 << 20, hashed)),
-        }
+        })
     }
 
     pub fn writer(&mut self) -> &mut impl Write {
-        self.out
-            .as_mut()
-            .expect("a staged file is open until commit")
+        &mut self.out
     }
 
     /// Bytes written so far (buffered ones included).
     pub fn written(&self) -> u64 {
-        self.out
-            .as_ref()
-            .map_or(0, |w| w.get_ref().len + w.buffer().len() as u64)
+        self.out.get_ref().len + self.out.buffer().len() as u64
     }
 
     /// Flushes and syncs the partial file, and says how far it has got.
     pub fn progress(&mut self) -> Result<Progress, String> {
-        let out = self.out.as_mut().expect("open");
+        let out = &mut self.out;
         out.flush().map_err(|e| fail(&self.path, e))?;
         let h = out.get_ref();
         h.file.sync_data().map_err(|e| fail(&self.path, e))?;
@@ -144,31 +153,29 @@ impl Staged {
     /// Leaves the partial file for a resume (a checkpoint records its progress).
     pub fn keep(mut self) -> Result<(), String> {
         self.progress()?;
-        self.out = None;
-        Ok(())
+        self.partial
+            .keep()
+            .map(|_| ())
+            .map_err(|e| fail(&self.path, e.error))
     }
 
-    /// Renames the finished output into place.
-    pub fn commit(mut self) -> Result<(), String> {
-        let out = self.out.take().expect("committed once");
-        let hashed = out
-            .into_inner()
-            .map_err(|e| fail(&self.path, e.into_error()))?;
-        hashed.file.sync_all().map_err(|e| fail(&self.path, e))?;
-        std::fs::rename(&self.partial, &self.path).map_err(|e| fail(&self.path, e))
+    /// Renames the finished output into place. Should that fail, the partial file stays for a
+    /// resume from the last checkpoint.
+    pub fn commit(self) -> Result<(), String> {
+        let Self { path, out, partial } = self;
+        let hashed = match out.into_inner() {
+            Ok(hashed) => hashed,
+            Err(e) => {
+                let _ = partial.keep();
+                return Err(fail(&path, e.into_error()));
+            }
+        };
+        crate::atomic::persist(&hashed.file, partial, &path, OnFailure::Keep)
     }
 }
 
 fn fail(path: &Path, e: std::io::Error) -> String {
     format!("cannot write {}: {e}", path.display())
-}
-
-impl Drop for Staged {
-    fn drop(&mut self) {
-        if self.out.take().is_some() {
-            let _ = std::fs::remove_file(&self.partial);
-        }
-    }
 }
 
 #[cfg(test)]

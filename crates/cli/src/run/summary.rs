@@ -1,7 +1,7 @@
 //! The end of a run: the observables computed into a [`Summary`], the outputs committed,
 //! `summary.json` written (last: its `run` field is the directory's manifest) and the summary
-//! printed. The fields of `summary.json` are documented once, in docs/scene-format.md ("The
-//! fields of summary.json"); a test checks that its table lists exactly the fields written.
+//! printed. The fields of `summary.json` are documented once, in docs/run-summary.md; a test
+//! checks that its table lists exactly the fields written.
 
 use std::error::Error;
 use std::io::Write;
@@ -64,71 +64,118 @@ fn relative(change: f64, scale: f64) -> f64 {
     if scale > 0.0 { change / scale } else { change }
 }
 
-/// `summary.json` (docs/scene-format.md documents each field).
+/// `summary.json`, the figures of a completed run (docs/run-summary.md documents each field).
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// The scene file, as given.
     scene: String,
+    /// The engine the world was assembled into (response, boundary, shapes, geometry).
     engine: String,
+    /// The number of spheres.
     spheres: usize,
+    /// Planes, cylinders and containers.
     static_shapes: usize,
+    /// The time the run ended at.
     t_end: f64,
+    /// Wall-clock seconds spent simulating, over every resumed part.
     wall_seconds: f64,
+    /// Collisions by kind, and their rate.
     collisions: Collisions,
+    /// Kinetic energy at the start and the end.
     kinetic_energy: Energy,
+    /// Kinetic energy taken by inelastic and sticky collisions.
     energy_lost: f64,
+    /// (start − end − lost) / start of the kinetic energy.
     energy_balance: f64,
+    /// Total momentum at the start and the end.
     momentum: Momentum,
+    /// Clusters of stuck spheres at the end.
     clusters: Clusters,
+    /// Kernel evaluations by kind.
     kernels: Kernels,
+    /// The largest overlap of two spheres at their collision, over their contact distance.
     max_overlap: f64,
+    /// The largest depth of a sphere through a static shape at their collision, over its radius.
     max_wall_overlap: f64,
+    /// Wall collisions a sphere left at a container's floor angle.
     slid: u64,
+    /// The deepest overlaps in the state at the end.
     state_overlap: StateOverlap,
+    /// Cell crossings processed.
     crossings: u64,
+    /// Calendar entries found stale.
     stale: u64,
+    /// Full predictions of one sphere.
     predictions: u64,
+    /// Collisions whose impulse used the grazing floor.
     guarded: u64,
+    /// `Σ r_ij · Δp_j` over pair collisions.
     virial: f64,
     pressure: Option<Pressure>,
+    /// Frames in `trajectory.xyz` (0 without snapshots).
     frames: u64,
+    /// Rows in `events.csv`; `None` when events are not recorded.
     events: Option<u64>,
+    /// The directory's manifest: which run its files belong to.
     run: Manifest,
 }
 
+/// Collisions of a run.
 #[derive(Debug, Serialize)]
 struct Collisions {
+    /// Sphere–sphere collisions.
     pair: u64,
+    /// Sphere–shape collisions.
     wall: u64,
+    /// Collisions per second of wall time.
     per_second: f64,
 }
 
+/// The kinetic energy at the start and the end of a run.
 #[derive(Debug, Serialize)]
 struct Energy {
+    /// At t = 0.
     start: f64,
+    /// At the end.
     end: f64,
+    /// (end − start) / start.
     relative_drift: f64,
 }
 
+/// The total momentum at the start and the end of a run.
 #[derive(Debug, Serialize)]
 struct Momentum {
+    /// At t = 0, `[x, y, z]`.
     start: [f64; 3],
+    /// At the end.
     end: [f64; 3],
+    /// |end − start| (static shapes exchange momentum).
     drift: f64,
 }
 
+/// The clusters of stuck spheres at the end of a run (sticky responses).
 #[derive(Debug, Serialize)]
 struct Clusters {
+    /// Clusters of two or more spheres.
     count: usize,
+    /// Spheres in them.
     spheres: usize,
+    /// Spheres in the largest.
     largest: usize,
+    /// Sticky joins.
     joins: u64,
 }
 
+/// Kernel evaluations by kind of the other body.
 #[derive(Debug, Serialize)]
 struct Kernels {
+    /// Sphere–sphere kernel lanes run (8 a call).
     sphere: u64,
+    /// Sphere–plane kernel evaluations.
     plane: u64,
+    /// Sphere–cylinder kernel evaluations.
     cylinder: u64,
+    /// Sphere–container kernel evaluations.
     container: u64,
 }
 
@@ -137,7 +184,9 @@ struct Kernels {
 /// report-only scene, where spheres pass through each other).
 #[derive(Debug, Serialize)]
 struct StateOverlap {
+    /// Of two spheres, over `2⁻¹⁶` of their contact distance.
     pairs: Option<f64>,
+    /// Of a sphere through a static shape, over `2⁻¹⁶` of its radius.
     shapes: Option<f64>,
 }
 
@@ -266,7 +315,7 @@ pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
     dir.replace_outputs(staged.into_iter().flatten().collect(), &summary.run)?;
     let json_path = dir.file(outputs::SUMMARY);
     let text = serde_json::to_string_pretty(&summary)?;
-    crate::output::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
+    crate::atomic::write_atomic(&json_path, format!("{text}\n").as_bytes())?;
     wrote.push(json_path.display().to_string());
     let mut out = std::io::stdout().lock();
     summary.print(&mut out, about, run.counters.momentum_scale)?;
@@ -478,7 +527,7 @@ mod tests {
         }
     }
 
-    /// docs/scene-format.md's table of the fields of summary.json lists exactly the fields
+    /// docs/run-summary.md's table of the fields of summary.json lists exactly the fields
     /// written.
     #[test]
     fn the_documented_fields_are_the_fields_written() {
@@ -487,13 +536,13 @@ mod tests {
         paths(&value, "", &mut written);
         let doc = std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/scene-format.md"
+            "/../../docs/run-summary.md"
         ))
         .unwrap();
         let table = doc
             .split("## The fields of summary.json")
             .nth(1)
-            .expect("docs/scene-format.md has a section 'The fields of summary.json'");
+            .expect("docs/run-summary.md has a section 'The fields of summary.json'");
         let documented: Vec<String> = table
             .lines()
             .skip_while(|l| !l.starts_with("| `"))
