@@ -188,8 +188,17 @@ fn spheres(
             canvas.line(vec![(x - 5.0, y - 5.0), (x + 5.0, y + 5.0)], black, 2.0);
             canvas.line(vec![(x - 5.0, y + 5.0), (x + 5.0, y - 5.0)], black, 2.0);
         }
-        // The number darker than the outlines, readable where it crosses another sphere.
-        let label = (start.0 + r * 0.75, start.1 - r * 0.75 - 2.0);
-        canvas.text(label, i.to_string(), 14.0, colour.shade(0.7), Anchor::Start);
+        // The number darker than the outlines, on a light backing: readable where it crosses
+        // another sphere's outline.
+        let (label, size) = (i.to_string(), 14.0);
+        let at = (start.0 + r * 0.75, start.1 - r * 0.75 - 2.0);
+        let backing = Rect {
+            x: at.0 - 1.0,
+            y: at.1 - size * 0.8,
+            w: size * 0.6 * label.len() as f64 + 2.0,
+            h: size * 0.9,
+        };
+        canvas.rect(backing, Rgb(255, 255, 255).alpha(0.8));
+        canvas.text(at, label, size, colour.shade(0.6), Anchor::Start);
     }
 }
