@@ -106,7 +106,7 @@ fn table(args: &Args) -> Result<(), Box<dyn Error>> {
         }
     }
     if let Some(path) = &args.svg {
-        let picture = picture::top_view(&scene, &contacts, t_max)?;
+        let picture = picture::top_view(&scene, &contacts, t_max).svg();
         crate::atomic::write_atomic(path, picture.as_bytes())?;
         writeln!(out, "\nwrote {}", path.display())?;
     }

@@ -7,6 +7,7 @@
 
 use glam::DVec3;
 use spheresweep::sim::SphereState;
+use spheresweep::{Container, Cylinder, Plane};
 
 use super::Shapes;
 
@@ -49,7 +50,9 @@ fn own_region(shapes: &Shapes) -> Option<(DVec3, DVec3)> {
         return shapes.region;
     }
     shapes
-        .containers
+        .statics
+        .of::<Container>()
+        .shapes()
         .iter()
         .map(|k| {
             let (c, r) = (k.centre().as_dvec3(), f64::from(k.radius()));
@@ -88,10 +91,10 @@ fn robust<'a>(
             hi = hi.max(c + r);
         }
     };
-    for c in &shapes.cylinders {
+    for c in shapes.statics.of::<Cylinder>().shapes() {
         add(c.point().as_dvec3(), f64::from(c.radius()));
     }
-    for p in &shapes.planes {
+    for p in shapes.statics.of::<Plane>().shapes() {
         add(p.point().as_dvec3(), 0.0);
     }
     (lo, hi)
@@ -179,7 +182,10 @@ mod tests {
         // Spheres beyond 5 (x, y or z of 6 … 9), and the outlier.
         assert_eq!(outside(&spheres, frame), 1000 - 6 * 6 * 6 + 1);
         let vessel = Shapes {
-            containers: vec![spheresweep::Container::new([1.0, 0.0, 0.0], 10.0).unwrap()],
+            statics: spheresweep::Statics::new().with(
+                spheresweep::Container::new([1.0, 0.0, 0.0], 10.0).unwrap(),
+                (),
+            ),
             ..Shapes::default()
         };
         let frame = bounds(&spheres, &vessel);
