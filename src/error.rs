@@ -1,5 +1,6 @@
 //! Errors at the validation boundary: each names the shape, the field and what is wrong; and
-//! [`Error`], which wraps every area's error so that a caller can `?` across areas.
+//! [`Error`], which wraps the errors of shapes, stores, batch calls and simulations so that a
+//! caller can `?` across them.
 
 use std::fmt;
 
@@ -66,7 +67,10 @@ impl ShapeError {
     }
 }
 
-/// Any error of the library: one type to `?` across areas (shapes, stores, queries).
+/// An error of the library's shapes, stores, batch calls or simulations: one type to `?`
+/// across them. The scene file's `io::scene_file::SceneFileError` (feature `scene-file`)
+/// stays apart: it carries an I/O error (neither `Clone` nor `PartialEq`) and already holds
+/// the shape or simulation error it stems from.
 ///
 /// ```
 /// use spheresweep::{Error, Sphere};
@@ -87,6 +91,9 @@ pub enum Error {
     /// A batch call's arguments do not fit together.
     #[error(transparent)]
     Batch(#[from] crate::batch::BatchError),
+    /// A simulation could not be built or advanced.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
 }
 
 /// A number as messages print it: plainly between `10⁻⁴` and `10⁶` (and `0`), in scientific

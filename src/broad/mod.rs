@@ -77,7 +77,8 @@ impl Grid {
     /// # Ok::<(), spheresweep::ShapeError>(())
     /// ```
     pub fn build(&mut self, store: &SphereStore, t_max: f32, options: GridOptions) {
-        self.inner.build(grid::Columns::of(store), t_max, options);
+        self.inner
+            .build(grid::SphereBlocks::of(store), t_max, options);
     }
 
     /// Sphere indices in cell order.
@@ -265,7 +266,7 @@ mod tests {
 
     /// Every pair `i < j` whose swept boxes overlap, from the same float operations.
     fn brute(store: &SphereStore, t_max: f32) -> Vec<[u32; 2]> {
-        let cols = grid::Columns::of(store);
+        let cols = grid::SphereBlocks::of(store);
         let boxes: Vec<_> = (0..store.len())
             .map(|i| grid::swept_box(&cols, i, t_max))
             .collect();

@@ -617,11 +617,63 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
 
     /// Gathers sphere `i`'s neighbours (all 27 cells, or the 9 newly adjacent after a crossing
     /// along `layer`), screens them eight at a time; returns the two earliest contacts and
-    /// whether there were no others.
+    /// whether there were no others. The stages: gather, screen (f32), settle (f64).
     fn predict_pairs(&mut self, i: u32, layer: Option<(usize, i32)>) -> ([Candidate; 2], bool) {
-        let now = self.now;
         let bi = self.m.bodies[i as usize];
+        self.gather_neighbours(i, &bi, layer);
+        let count = self.screen_neighbours(i, &bi);
+        self.stats.kernels.sphere += count as u64;
+        if count == 0 {
+            return ([Candidate::NONE; 2], true);
+        }
+        self.settle_candidates(&bi)
+    }
+
+    /// The neighbours of sphere `i` (body `bi`) into `near` as (index, image), and each
+    /// image's offset (its periodic shift minus `bi`'s centre) into `offsets`. Each
+    /// neighbour's cache line is touched here, so that the misses overlap (the loads are
+    /// independent) and the screen computes from lines already near.
+    fn gather_neighbours(&mut self, i: u32, bi: &Dyn, layer: Option<(usize, i32)>) {
         let ci = self.cells.at[i as usize];
+        let n = self.cells.n;
+        self.near.clear();
+        let interior = (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2);
+        let touch = if interior {
+            self.gather_interior(ci, bi, layer)
+        } else {
+            self.gather_at_edge(ci, bi, layer)
+        };
+        std::hint::black_box(touch);
+    }
+
+    /// [`gather_neighbours`](Self::gather_neighbours) in a cell with no wrap and no edge: the
+    /// stencil is a fixed table of index deltas. Returns the touched values' sum.
+    fn gather_interior(&mut self, ci: [i32; 3], bi: &Dyn, layer: Option<(usize, i32)>) -> f64 {
+        let mut touch = 0.0;
+        let base = self.cells.index(ci);
+        let images: &[u8] = match layer {
+            None => &ALL_IMAGES,
+            Some((axis, step)) => &LAYER_IMAGES[2 * axis + usize::from(step > 0)],
+        };
+        for &image in images {
+            let cell = base.wrapping_add_signed(self.cells.delta[usize::from(image)]);
+            let members = self.cells.members(cell);
+            if members.is_empty() {
+                continue;
+            }
+            self.offsets[usize::from(image)] = -bi.r;
+            for &j in members {
+                touch += self.m.bodies[j as usize].t;
+                self.near.push((j, image));
+            }
+        }
+        touch
+    }
+
+    /// [`gather_neighbours`](Self::gather_neighbours) in a cell at the domain's edge: per axis
+    /// the neighbour cells wrap (periodic, with an image shift) or are skipped (open).
+    /// Returns the touched values' sum.
+    fn gather_at_edge(&mut self, ci: [i32; 3], bi: &Dyn, layer: Option<(usize, i32)>) -> f64 {
         let (n, len) = (self.cells.n, self.cells.len);
         // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 when outside an open
         // domain) and the image shift.
@@ -652,64 +704,44 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 _ => oz = o..o + 1,
             }
         }
-        // Phase 1: the neighbours' indices, touching each one's cache line so that the misses
-        // overlap (the loads are independent); phase 2 computes from lines already near.
-        self.near.clear();
-        let offsets = &mut self.offsets;
         let mut touch = 0.0;
         let (nx, ny) = (n[0] as usize, n[1] as usize);
-        let interior = (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2);
-        if interior {
-            // No wrap and no edge: the stencil is a fixed table of index deltas.
-            let base = self.cells.index(ci);
-            let images: &[u8] = match layer {
-                None => &ALL_IMAGES,
-                Some((axis, step)) => &LAYER_IMAGES[2 * axis + usize::from(step > 0)],
-            };
-            for &image in images {
-                let cell = base.wrapping_add_signed(self.cells.delta[usize::from(image)]);
-                let members = self.cells.members(cell);
-                if members.is_empty() {
-                    continue;
-                }
-                offsets[usize::from(image)] = -bi.r;
-                for &j in members {
-                    touch += self.m.bodies[j as usize].t;
-                    self.near.push((j, image));
-                }
+        for z in oz {
+            let cz = coord[2][z];
+            if !PERIODIC && cz < 0 {
+                continue;
             }
-        } else {
-            for z in oz {
-                let cz = coord[2][z];
-                if !PERIODIC && cz < 0 {
+            for y in oy.clone() {
+                let cy = coord[1][y];
+                if !PERIODIC && cy < 0 {
                     continue;
                 }
-                for y in oy.clone() {
-                    let cy = coord[1][y];
-                    if !PERIODIC && cy < 0 {
+                let row = (cz as usize * ny + cy as usize) * nx;
+                for x in ox.clone() {
+                    let cx = coord[0][x];
+                    if !PERIODIC && cx < 0 {
                         continue;
                     }
-                    let row = (cz as usize * ny + cy as usize) * nx;
-                    for x in ox.clone() {
-                        let cx = coord[0][x];
-                        if !PERIODIC && cx < 0 {
-                            continue;
-                        }
-                        let members = self.cells.members(row + cx as usize);
-                        if members.is_empty() {
-                            continue;
-                        }
-                        let image = x + 3 * y + 9 * z;
-                        offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
-                        for &j in members {
-                            touch += self.m.bodies[j as usize].t;
-                            self.near.push((j, image as u8));
-                        }
+                    let members = self.cells.members(row + cx as usize);
+                    if members.is_empty() {
+                        continue;
+                    }
+                    let image = x + 3 * y + 9 * z;
+                    self.offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
+                    for &j in members {
+                        touch += self.m.bodies[j as usize].t;
+                        self.near.push((j, image as u8));
                     }
                 }
             }
         }
-        std::hint::black_box(touch);
+        touch
+    }
+
+    /// The f32 screen of the gathered neighbours against sphere `i` (body `bi`), eight at a
+    /// time; returns how many pairs it ran.
+    fn screen_neighbours(&mut self, i: u32, bi: &Dyn) -> usize {
+        let now = self.now;
         self.batch.start(self.near.len());
         for &(j, image) in &self.near {
             let bj = &self.m.bodies[j as usize];
@@ -728,11 +760,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             self.batch.push_if(keep, r0, v, d, j, image);
         }
         self.batch.finish();
-        let count = self.batch.len();
-        self.stats.kernels.sphere += count as u64;
-        if count == 0 {
-            return ([Candidate::NONE; 2], true);
-        }
+        self.batch.len()
+    }
+
+    /// The screen's candidates settled in f64, four at a time: the two earliest contacts
+    /// with sphere `bi`, and whether there were no others (the screen kept them all, and at
+    /// most two settled).
+    fn settle_candidates(&mut self, bi: &Dyn) -> ([Candidate; 2], bool) {
+        let now = self.now;
         let mut complete = self.batch.candidates(&mut self.candidates);
         let mut top = [Candidate::NONE; 2];
         let mut found = 0;

@@ -1,4 +1,4 @@
-//! Simulation workloads shared by the criterion bench (`benches/simulation.rs`) and
+//! Simulation workloads shared by the criterion bench (the root's `benches/simulation.rs`) and
 //! `spheresweep bench --sim`: the hard-sphere gas of the peer's figures (FCC start, diameter 1,
 //! mass 1, kT = 1, no thermostat), our rate measured over a set number of collisions, and the
 //! peer (Smallenburg's EDMD "Single") run through `scripts/edmd_peer.sh` from a checkout the
