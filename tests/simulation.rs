@@ -527,7 +527,7 @@ fn report_only_first_contacts_match_the_scene_query() {
     let w = World {
         spheres,
         effects: Effects {
-            response: Response::None,
+            response: Response::ReportOnly,
             record_events: true,
             ..Effects::default()
         },

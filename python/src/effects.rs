@@ -42,7 +42,7 @@ pub(crate) fn scene_response(
         (Some("inelastic"), None) => Err(PyValueError::new_err(
             "restitution: required with response \"inelastic\"",
         )),
-        (Some("none"), None) => Ok(Response::None),
+        (Some("none"), None) => Ok(Response::ReportOnly),
         (Some("sticky"), None) => Ok(Response::Sticky),
         (Some(name @ ("none" | "elastic" | "sticky")), Some(e)) => {
             Err(PyValueError::new_err(format!(

@@ -120,7 +120,7 @@ impl Simulation {
                 // `x − L·floor(x/L)` can round up to `L`.
                 r = r.min(cells.len * (1.0 - f64::EPSILON));
             }
-            m.bodies.push(response::Body {
+            m.bodies.push(response::Trajectory {
                 r,
                 t: 0.0,
                 v: s.velocity,
@@ -162,7 +162,7 @@ impl Simulation {
                 }
             }
         }
-        let report_only = world.effects.response == Response::None;
+        let report_only = world.effects.response == Response::ReportOnly;
         let walls_present = !walls.is_empty();
         let log = world.effects.record_events;
         let geometry = world.effects.geometry && log;

@@ -18,7 +18,7 @@ use super::cells::{Cells, NONE};
 use super::checkpoint::{Decoder, Encoder};
 use super::predict::{PairBatch, refine};
 use super::queue::{Calendar, Entry};
-use super::response::{Body as Dyn, Motion, Outcome, Responder, Wall};
+use super::response::{Motion, Outcome, Responder, Trajectory, Wall};
 use super::{EventRecord, SimError, Stats};
 use crate::contact::Body;
 use crate::shape::ShapeKind;
@@ -214,7 +214,7 @@ pub(crate) struct Engine<
 /// allocated.
 pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
     use std::mem::size_of;
-    let per_sphere = size_of::<Dyn>()
+    let per_sphere = size_of::<Trajectory>()
         + size_of::<f64>()
         + size_of::<u16>()
         + size_of::<u32>()
@@ -633,7 +633,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// image's offset (its periodic shift minus `bi`'s centre) into `offsets`. Each
     /// neighbour's cache line is touched here, so that the misses overlap (the loads are
     /// independent) and the screen computes from lines already near.
-    fn gather_neighbours(&mut self, i: u32, bi: &Dyn, layer: Option<(usize, i32)>) {
+    fn gather_neighbours(&mut self, i: u32, bi: &Trajectory, layer: Option<(usize, i32)>) {
         let ci = self.cells.at[i as usize];
         let n = self.cells.n;
         self.near.clear();
@@ -648,7 +648,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
 
     /// [`gather_neighbours`](Self::gather_neighbours) in a cell with no wrap and no edge: the
     /// stencil is a fixed table of index deltas. Returns the touched values' sum.
-    fn gather_interior(&mut self, ci: [i32; 3], bi: &Dyn, layer: Option<(usize, i32)>) -> f64 {
+    fn gather_interior(
+        &mut self,
+        ci: [i32; 3],
+        bi: &Trajectory,
+        layer: Option<(usize, i32)>,
+    ) -> f64 {
         let mut touch = 0.0;
         let base = self.cells.index(ci);
         let images: &[u8] = match layer {
@@ -673,7 +678,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// [`gather_neighbours`](Self::gather_neighbours) in a cell at the domain's edge: per axis
     /// the neighbour cells wrap (periodic, with an image shift) or are skipped (open).
     /// Returns the touched values' sum.
-    fn gather_at_edge(&mut self, ci: [i32; 3], bi: &Dyn, layer: Option<(usize, i32)>) -> f64 {
+    fn gather_at_edge(
+        &mut self,
+        ci: [i32; 3],
+        bi: &Trajectory,
+        layer: Option<(usize, i32)>,
+    ) -> f64 {
         let (n, len) = (self.cells.n, self.cells.len);
         // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 when outside an open
         // domain) and the image shift.
@@ -740,7 +750,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
 
     /// The f32 screen of the gathered neighbours against sphere `i` (body `bi`), eight at a
     /// time; returns how many pairs it ran.
-    fn screen_neighbours(&mut self, i: u32, bi: &Dyn) -> usize {
+    fn screen_neighbours(&mut self, i: u32, bi: &Trajectory) -> usize {
         let now = self.now;
         self.batch.start(self.near.len());
         for &(j, image) in &self.near {
@@ -766,7 +776,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// The screen's candidates settled in f64, four at a time: the two earliest contacts
     /// with sphere `bi`, and whether there were no others (the screen kept them all, and at
     /// most two settled).
-    fn settle_candidates(&mut self, bi: &Dyn) -> ([Candidate; 2], bool) {
+    fn settle_candidates(&mut self, bi: &Trajectory) -> ([Candidate; 2], bool) {
         let now = self.now;
         let mut complete = self.batch.candidates(&mut self.candidates);
         let mut top = [Candidate::NONE; 2];
@@ -819,7 +829,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         use crate::sim::OVERLAP_TOLERANCE;
         let n = self.m.bodies.len();
         let len = self.cells.len;
-        let at_now = |b: &Dyn| b.r + b.v * (self.now - b.t);
+        let at_now = |b: &Trajectory| b.r + b.v * (self.now - b.t);
         // How close `r0 + v t` comes to the origin over `[0, t_end]` (`t_end` may be ∞).
         let closest = |r0: DVec3, v: DVec3, t_end: f64| {
             let a = v.length_squared();
@@ -873,15 +883,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
     /// public order.
-    pub fn current(&self) -> Vec<Dyn> {
-        let mut out = vec![Dyn::default(); self.m.bodies.len()];
+    pub fn current(&self) -> Vec<Trajectory> {
+        let mut out = vec![Trajectory::default(); self.m.bodies.len()];
         for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
             let mut r = b.r + b.v * (self.now - b.t);
             if PERIODIC {
                 let len = self.cells.len;
                 r -= len * (r / len).floor();
             }
-            out[id as usize] = Dyn {
+            out[id as usize] = Trajectory {
                 r,
                 t: self.now,
                 ..*b
@@ -1002,7 +1012,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             if !x.iter().all(|v| v.is_finite()) {
                 return Err(bad("a sphere's state is not finite".into()));
             }
-            *b = Dyn {
+            *b = Trajectory {
                 r: DVec3::new(x[0], x[1], x[2]),
                 t: x[3],
                 v: DVec3::new(x[4], x[5], x[6]),

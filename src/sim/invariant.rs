@@ -11,7 +11,7 @@
 
 use super::OVERLAP_TOLERANCE;
 use super::cells::Cells;
-use super::response::Body as Dyn;
+use super::response::Trajectory;
 use crate::ShapeKind;
 use crate::contact::Body;
 use crate::statics::Statics;
@@ -54,7 +54,7 @@ pub(crate) struct Breach {
 
 /// Which side of each static shape each sphere is on ([`crate::Static::side`]: for a plane,
 /// `true` on the side the normal points to), `walls.len()` entries per sphere.
-pub(crate) fn sides(bodies: &[Dyn], walls: &Statics<u16>) -> Vec<bool> {
+pub(crate) fn sides(bodies: &[Trajectory], walls: &Statics<u16>) -> Vec<bool> {
     let mut sides = Vec::with_capacity(bodies.len() * walls.len());
     for b in bodies {
         sides.extend(walls.iter().map(|(_, shape, _)| shape.side(b.r)));
@@ -67,7 +67,7 @@ pub(crate) fn sides(bodies: &[Dyn], walls: &Statics<u16>) -> Vec<bool> {
 /// of each shape at the start ([`sides`]), in the same order as `bodies`; empty to take the
 /// side each sphere is on now.
 pub(crate) fn check(
-    bodies: &[Dyn],
+    bodies: &[Trajectory],
     cells: &Cells,
     periodic: bool,
     walls: &Statics<u16>,
@@ -79,7 +79,7 @@ pub(crate) fn check(
 }
 
 /// Every pair of spheres in the same or adjacent cells (each pair once).
-fn check_pairs(bodies: &[Dyn], cells: &Cells, periodic: bool) -> Result<f64, Breach> {
+fn check_pairs(bodies: &[Trajectory], cells: &Cells, periodic: bool) -> Result<f64, Breach> {
     let n = bodies.len();
     let count = cells.cell_count();
     // Counting sort of the spheres by the cell their position falls in.
@@ -149,7 +149,7 @@ fn neighbour(cells: &Cells, c: [i32; 3], offset: usize, periodic: bool) -> Optio
 }
 
 /// Every sphere against every static shape.
-fn check_walls(bodies: &[Dyn], walls: &Statics<u16>, sides: &[bool]) -> Result<f64, Breach> {
+fn check_walls(bodies: &[Trajectory], walls: &Statics<u16>, sides: &[bool]) -> Result<f64, Breach> {
     let mut worst = f64::NEG_INFINITY;
     let count = walls.len();
     for (i, b) in bodies.iter().enumerate() {
@@ -183,8 +183,8 @@ mod tests {
     use glam::DVec3;
 
     /// A body at `r` of radius `radius`, at rest.
-    fn body(r: DVec3, radius: f64) -> Dyn {
-        Dyn {
+    fn body(r: DVec3, radius: f64) -> Trajectory {
+        Trajectory {
             r,
             t: 0.0,
             v: DVec3::ZERO,

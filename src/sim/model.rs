@@ -26,9 +26,9 @@ pub struct SphereState {
 /// What a collision does to the bodies that meet.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Response {
-    /// Nothing: contacts are only reported, and the spheres pass through each other. Applies to
-    /// a whole scene, never to one pair of materials.
-    None,
+    /// Nothing: contacts are only reported, and the spheres pass through each other (`"none"`
+    /// in scene files and Python). Applies to a whole scene, never to one pair of materials.
+    ReportOnly,
     /// Elastic: the normal relative velocity is reversed.
     #[default]
     Elastic,
@@ -355,12 +355,12 @@ impl World {
             material(format!("material pair {i}"), p.a)?;
             material(format!("material pair {i}"), p.b)?;
             check(&p.response, format!("material pair {i}"))?;
-            if p.response == Response::None && fx.response != Response::None {
+            if p.response == Response::ReportOnly && fx.response != Response::ReportOnly {
                 return Err(SimError::Effects(format!(
                     "material pair {i}: response `none` applies to a whole scene, not one pair"
                 )));
             }
-            if fx.response == Response::None {
+            if fx.response == Response::ReportOnly {
                 return Err(SimError::Effects(format!(
                     "material pair {i}: the scene's response is `none` (contacts reported \
                      only), which a pair cannot change"
@@ -424,11 +424,11 @@ mod tests {
         );
         for (w, message) in [
             (
-                world(Response::Elastic, vec![pair(Response::None)], 0.0),
+                world(Response::Elastic, vec![pair(Response::ReportOnly)], 0.0),
                 "material pair 0: response `none` applies to a whole scene",
             ),
             (
-                world(Response::None, vec![sticky], 0.0),
+                world(Response::ReportOnly, vec![sticky], 0.0),
                 "material pair 0: the scene's response is `none`",
             ),
             (

@@ -8,11 +8,11 @@ use glam::DVec3;
 use super::checkpoint::{Decoder, Encoder};
 use super::model::{Response, SimError};
 
-/// One sphere's dynamics, f64: centre at its own time `t`, velocity, radius. 64 bytes, so a
-/// neighbour is one cache line.
+/// One sphere's straight-line trajectory, f64: centre `r` at its own time `t`, velocity,
+/// radius. 64 bytes, so a neighbour is one cache line.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[repr(C, align(64))]
-pub(crate) struct Body {
+pub(crate) struct Trajectory {
     pub r: DVec3,
     pub t: f64,
     pub v: DVec3,
@@ -22,7 +22,7 @@ pub(crate) struct Body {
 /// Everything a response may change.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Motion {
-    pub bodies: Vec<Body>,
+    pub bodies: Vec<Trajectory>,
     pub mass: Vec<f64>,
     pub material: Vec<u16>,
     /// Bumped at every velocity change: a prediction made against an older value is stale.
@@ -522,7 +522,7 @@ impl Responder for Materials {
         out.guarded = guarded;
         let response = self.response(m.material[i as usize], m.material[j as usize]);
         let e = match response {
-            Response::None | Response::Elastic => 1.0,
+            Response::ReportOnly | Response::Elastic => 1.0,
             Response::Inelastic { restitution } => self.restitution(restitution, now, &[i, j]),
             Response::Sticky => {
                 // Common velocity conserving momentum; a stuck cluster (infinite mass) holds.
@@ -573,7 +573,7 @@ impl Responder for Materials {
         out.guarded = guarded;
         let mc = self.cmass[c as usize];
         let e = match self.response(m.material[i as usize], wall.material) {
-            Response::None | Response::Elastic => 1.0,
+            Response::ReportOnly | Response::Elastic => 1.0,
             Response::Inelastic { restitution } => self.restitution(restitution, now, &[i]),
             Response::Sticky => {
                 out.energy_lost = 0.5 * mc * v.length_squared();

@@ -20,7 +20,7 @@ pub(super) trait Run: Send {
     fn now(&self) -> f64;
     fn stats(&self) -> &Stats;
     fn motion(&self) -> &Motion;
-    fn current(&self) -> Vec<response::Body>;
+    fn current(&self) -> Vec<response::Trajectory>;
     fn take_log(&mut self) -> Vec<EventRecord>;
     fn clusters(&self) -> Vec<Vec<u32>>;
     fn name(&self) -> String;
@@ -77,7 +77,7 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
     fn motion(&self) -> &Motion {
         &self.m
     }
-    fn current(&self) -> Vec<response::Body> {
+    fn current(&self) -> Vec<response::Trajectory> {
         Engine::current(self)
     }
     fn take_log(&mut self) -> Vec<EventRecord> {

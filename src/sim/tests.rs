@@ -93,7 +93,7 @@ fn checkpoints_resume_bit_for_bit() {
             spheres: mix.spheres,
             materials: vec!["a".into(), "b".into()],
             effects: Effects {
-                response: Response::None,
+                response: Response::ReportOnly,
                 ..Effects::default()
             },
             ..World::default()

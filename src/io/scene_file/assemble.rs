@@ -125,7 +125,7 @@ impl SceneFile {
                     k.name()
                 ),
             )),
-            (ResponseKind::None, None) => Ok(Response::None),
+            (ResponseKind::None, None) => Ok(Response::ReportOnly),
             (ResponseKind::Elastic, None) => Ok(Response::Elastic),
             (ResponseKind::Sticky, None) => Ok(Response::Sticky),
         }
@@ -149,14 +149,14 @@ impl SceneFile {
             let a = self.material_index(names, Some(&p.a), &item, &at("a"))?;
             let b = self.material_index(names, Some(&p.b), &item, &at("b"))?;
             let r = self.response(p.response, p.restitution, &item, &path)?;
-            if r == Response::None {
+            if r == Response::ReportOnly {
                 return Err(self.item_error(
                     item,
                     &at("response"),
                     "response = \"none\" applies to a whole scene ([effects] response), not to one pair".into(),
                 ));
             }
-            if response == Response::None {
+            if response == Response::ReportOnly {
                 return Err(self.item_error(
                     item,
                     &path,
