@@ -6,7 +6,7 @@
 use glam::DVec3;
 use spheresweep::sim::{
     Boundary, Effects, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation,
-    SphereState, World, generate,
+    SphereState, World, generate, observables,
 };
 use spheresweep::{Container, Cylinder, Plane, ShapeKind, Statics};
 
@@ -84,11 +84,6 @@ fn elastic_gas_conserves_energy_and_momentum_over_a_million_collisions() {
     );
 }
 
-/// Kolafa–Labík–Malijevský (2004): `Z = (1 + η + η² − ⅔(η³ + η⁴)) / (1 − η)³`.
-fn z_klm(eta: f64) -> f64 {
-    (1.0 + eta + eta * eta - 2.0 / 3.0 * (eta.powi(3) + eta.powi(4))) / (1.0 - eta).powi(3)
-}
-
 /// The pressure from the collision virial matches the KLM equation of state within three
 /// standard errors of the run's own block averages, at φ = 0.1 … 0.4.
 #[test]
@@ -112,12 +107,12 @@ fn pressure_matches_the_klm_equation_of_state() {
             sim.advance_to(t0 + block).unwrap();
             let w = sim.stats().virial - w0;
             // Z = PV/(NkT) = 1 + Σ r·Δp / (3 N kT Δt), with N kT = 2 KE / 3.
-            zs.push(1.0 + w / (2.0 * ke * block));
+            zs.push(observables::compressibility(w, ke, block));
         }
         let mean = zs.iter().sum::<f64>() / zs.len() as f64;
         let var = zs.iter().map(|z| (z - mean).powi(2)).sum::<f64>() / (zs.len() - 1) as f64;
         let se = (var / zs.len() as f64).sqrt();
-        let expected = z_klm(phi);
+        let expected = observables::kolafa_labik_malijevsky_z(phi);
         assert!(
             (mean - expected).abs() <= 3.0 * se,
             "φ = {phi}: Z = {mean:.5} ± {se:.5}, KLM {expected:.5} (off by {:.2} SE)",
@@ -126,12 +121,36 @@ fn pressure_matches_the_klm_equation_of_state() {
         // The standard error is small enough for the test to tell KLM from Carnahan–Starling
         // at the denser states (they differ by 0.27 % at φ = 0.3).
         if phi >= 0.3 {
+            let cs = observables::carnahan_starling_z(phi);
+            assert!((cs - expected).abs() > 0.002 * expected, "φ = {phi}");
             assert!(
                 se < 0.003 * expected,
                 "φ = {phi}: standard error {se} too large to test"
             );
         }
     }
+}
+
+/// `Simulation::pressure` is the virial compressibility of the whole run, at the packing
+/// fraction of the box, and there is none outside a periodic box.
+#[test]
+fn the_pressure_is_the_virial_compressibility_of_the_run() {
+    let mut sim = Simulation::new(gas(500, 0.25, 9)).unwrap();
+    assert_eq!(sim.pressure(), None);
+    sim.advance_to(5.0).unwrap();
+    let p = sim.pressure().unwrap();
+    let z = observables::compressibility(sim.stats().virial, sim.kinetic_energy(), 5.0);
+    assert!((p.z - z).abs() < 1e-12 * z, "{p:?} against Z = {z}");
+    assert!((p.phi - 0.25).abs() < 1e-12, "{p:?}");
+    assert!((p.kt - 2.0 * sim.kinetic_energy() / 1500.0).abs() < 1e-15);
+    assert!(p.z > 1.5, "a dense gas pushes: {p:?}");
+    let open = World {
+        boundary: Boundary::Open,
+        ..gas(500, 0.25, 9)
+    };
+    let mut sim = Simulation::new(open).unwrap();
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.pressure(), None);
 }
 
 fn granular(e: f64, tc: f64) -> World {

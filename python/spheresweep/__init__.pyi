@@ -365,6 +365,10 @@ class Simulation:
         predictions, kernels_*, energy_lost, virial, max_overlap, max_wall_overlap, slid,
         joins, guarded."""
     @property
+    def pressure(self) -> Optional[Dict[str, float]]:
+        """Periodic boxes: p, z (PV/(NkT)), phi, kt and carnahan_starling (that equation of
+        state's Z at phi) from the collision virial since the start; None otherwise."""
+    @property
     def engine(self) -> str: ...
     def memory_bytes(self) -> int: ...
     def clusters(self) -> List[List[int]]: ...

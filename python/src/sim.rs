@@ -726,6 +726,28 @@ impl Simulation {
         Ok(d)
     }
 
+    /// The pressure of a periodic box since the start, from the collision virial
+    /// (`Simulation::pressure` of the library), as a dict: `p`, `z` (`PV/(NkT)`), `phi` (the
+    /// packing fraction), `kt`, and `carnahan_starling` (that equation of state's `Z` at
+    /// `phi`, for comparison in an elastic gas of equal spheres); `None` outside a periodic
+    /// box or before any time has passed.
+    #[getter]
+    fn pressure<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(p) = self.lock(py).pressure() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("p", p.p)?;
+        d.set_item("z", p.z)?;
+        d.set_item("phi", p.phi)?;
+        d.set_item("kt", p.kt)?;
+        d.set_item(
+            "carnahan_starling",
+            sim::observables::carnahan_starling_z(p.phi),
+        )?;
+        Ok(Some(d))
+    }
+
     /// Which engine the world was assembled into.
     #[getter]
     fn engine(&self, py: Python<'_>) -> String {

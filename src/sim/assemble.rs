@@ -7,8 +7,8 @@ use super::cells::{self, Cells};
 use super::checkpoint::world_fingerprint;
 use super::engine::Engine;
 use super::invariant;
-use super::response::{self, Elastic, Materials, Motion, ReportOnly};
-use super::run::Run;
+use super::response::{self, Elastic, Materials, Motion, ReportOnly, Responder};
+use super::run::{Clusters, Run};
 use super::{Boundary, OVERLAP_TOLERANCE, Response, SimError, Simulation, World};
 use crate::statics::Statics;
 
@@ -42,176 +42,40 @@ impl Simulation {
         world.validate()?;
         let fingerprint = world_fingerprint(&world);
         let n = world.spheres.len();
-        // Everything the engine will hold, asked of the allocator at once: a world too large
-        // for the memory the process may use is an error here, never an abort later.
-        let bytes = Self::estimated_bytes(n);
-        let mut probe: Vec<u8> = Vec::new();
-        probe
-            .try_reserve_exact(bytes)
-            .map_err(|_| SimError::Memory {
-                what: format!("a simulation of {n} spheres"),
-                bytes,
-            })?;
-        drop(probe);
-        let max_d = world
-            .spheres
-            .iter()
-            .map(|s| 2.0 * s.radius)
-            .fold(0.0, f64::max);
-        let min_width = if max_d > 0.0 {
-            max_d * (1.0 + 1e-6)
-        } else {
-            1.0
-        };
-        let (cells, periodic) = match world.boundary {
-            Boundary::Periodic { size } => {
-                for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
-                    if !(size[k].is_finite() && size[k] >= 3.0 * min_width) {
-                        return Err(SimError::Box {
-                            axis,
-                            length: size[k],
-                            needed: 3.0 * min_width,
-                        });
-                    }
-                }
-                // At most about four cells per sphere (and 27, three a side, at least): a
-                // sparse box gets wider cells, not a huge grid.
-                let cells = Cells::new(DVec3::ZERO, size, min_width, (4 * n).max(27), n);
-                if cells.n.iter().any(|&k| k < 3) {
-                    return Err(SimError::Box {
-                        axis: "x, y or z",
-                        length: size.min_element(),
-                        needed: 3.0 * min_width,
-                    });
-                }
-                (cells, true)
-            }
-            Boundary::OpenBox { lo, hi } => {
-                (Cells::new(lo, hi - lo, min_width, 2 * n + 64, n), false)
-            }
-            Boundary::Open => {
-                let (mut lo, mut hi) =
-                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-                for s in &world.spheres {
-                    lo = lo.min(s.centre - s.radius);
-                    hi = hi.max(s.centre + s.radius);
-                }
-                for (k, r) in world.statics.iter().filter_map(|(_, s, _)| s.interior()) {
-                    lo = lo.min(k - r);
-                    hi = hi.max(k + r);
-                }
-                if n == 0 {
-                    (lo, hi) = (DVec3::ZERO, DVec3::ONE);
-                }
-                let extent = (hi - lo).max(DVec3::splat(min_width));
-                (Cells::new(lo, extent, min_width, 2 * n + 64, n), false)
-            }
-        };
-        let mut m = Motion {
-            bodies: Vec::with_capacity(n),
-            mass: world.spheres.iter().map(|s| s.mass).collect(),
-            material: world.spheres.iter().map(|s| s.material).collect(),
-            counter: vec![0; n],
-        };
-        for s in &world.spheres {
-            let mut r = s.centre;
-            if periodic {
-                r -= cells.len * (r / cells.len).floor();
-                // `x − L·floor(x/L)` can round up to `L`.
-                r = r.min(cells.len * (1.0 - f64::EPSILON));
-            }
-            m.bodies.push(response::Trajectory {
-                r,
-                t: 0.0,
-                v: s.velocity,
-                radius: s.radius,
-            });
-        }
+        reserve_memory(n)?;
+        let (cells, periodic) = grid(&world)?;
+        let m = motion(&world, &cells, periodic);
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
         let sides = invariant::sides(&m.bodies, &walls);
-        // Which response the spheres and shapes actually in the scene call for.
-        let count = world.materials.len().max(1);
-        let mut table = vec![world.effects.response; count * count];
-        for p in &world.effects.pairs {
-            let (a, b) = (usize::from(p.a), usize::from(p.b));
-            table[a * count + b] = p.response;
-            table[b * count + a] = p.response;
-        }
-        let mut used = vec![false; count];
-        for &mat in m
-            .material
-            .iter()
-            .chain(world.statics.iter().map(|(_, _, m)| m))
-        {
-            used[usize::from(mat)] = true;
-        }
-        let sphere_used: Vec<bool> = {
-            let mut u = vec![false; count];
-            for &mat in &m.material {
-                u[usize::from(mat)] = true;
-            }
-            u
-        };
-        // A pair of materials matters if a sphere of one can meet a body of the other.
-        let mut all_elastic = true;
-        for a in 0..count {
-            for b in 0..count {
-                if sphere_used[a] && used[b] && table[a * count + b] != Response::Elastic {
-                    all_elastic = false;
-                }
-            }
-        }
-        let report_only = world.effects.response == Response::ReportOnly;
-        let walls_present = !walls.is_empty();
-        let log = world.effects.record_events;
-        let geometry = world.effects.geometry && log;
+        let response = ResponseChoice::of(&world, &m.material);
         let materials = m.material.clone();
         let masses = m.mass.clone();
-        macro_rules! build {
-            ($r:expr) => {{
-                let r = $r;
-                match (periodic, walls_present, geometry) {
-                    (false, false, false) => Box::new(Engine::<_, false, false, false>::new(
-                        m, cells, walls, r, log,
-                    )) as Box<dyn Run>,
-                    (false, false, true) => Box::new(Engine::<_, false, false, true>::new(
-                        m, cells, walls, r, log,
-                    )),
-                    (false, true, false) => Box::new(Engine::<_, false, true, false>::new(
-                        m, cells, walls, r, log,
-                    )),
-                    (false, true, true) => {
-                        Box::new(Engine::<_, false, true, true>::new(m, cells, walls, r, log))
-                    }
-                    (true, false, false) => Box::new(Engine::<_, true, false, false>::new(
-                        m, cells, walls, r, log,
-                    )),
-                    (true, false, true) => {
-                        Box::new(Engine::<_, true, false, true>::new(m, cells, walls, r, log))
-                    }
-                    (true, true, false) => {
-                        Box::new(Engine::<_, true, true, false>::new(m, cells, walls, r, log))
-                    }
-                    (true, true, true) => {
-                        Box::new(Engine::<_, true, true, true>::new(m, cells, walls, r, log))
-                    }
-                }
-            }};
-        }
-        let engine: Box<dyn Run> = if report_only {
-            build!(ReportOnly {
-                partner: vec![cells::NONE; n]
-            })
-        } else if all_elastic {
-            build!(Elastic)
-        } else {
-            build!(Materials::new(
-                table,
-                count,
-                world.effects.tc,
-                &masses.clone()
-            ))
+        let switches = Switches {
+            periodic,
+            walls: !walls.is_empty(),
+            geometry: world.effects.geometry && world.effects.record_events,
+        };
+        let parts = Parts {
+            m,
+            cells,
+            walls,
+            log: world.effects.record_events,
+        };
+        let engine = match response {
+            ResponseChoice::ReportOnly => pick_periodic(
+                ReportOnly {
+                    partner: vec![cells::NONE; n],
+                },
+                switches,
+                parts,
+            ),
+            ResponseChoice::Elastic => pick_periodic(Elastic, switches, parts),
+            ResponseChoice::Materials { table, count } => pick_periodic(
+                Materials::new(table, count, world.effects.tc, &masses.clone()),
+                switches,
+                parts,
+            ),
         };
         Ok(Self {
             engine,
@@ -221,6 +85,217 @@ impl Simulation {
             sides,
             boundary: world.boundary,
         })
+    }
+}
+
+/// Everything the engine will hold, asked of the allocator at once: a world too large for the
+/// memory the process may use is an error here, never an abort later.
+fn reserve_memory(n: usize) -> Result<(), SimError> {
+    let bytes = Simulation::estimated_bytes(n);
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(bytes)
+        .map_err(|_| SimError::Memory {
+            what: format!("a simulation of {n} spheres"),
+            bytes,
+        })?;
+    drop(probe);
+    Ok(())
+}
+
+/// The cell grid over the boundary (cells at least one largest diameter wide), and whether
+/// it wraps: a periodic box of at least three cells a side, an open box as given, or open
+/// space around the spheres and containers.
+fn grid(world: &World) -> Result<(Cells, bool), SimError> {
+    let n = world.spheres.len();
+    let max_d = world
+        .spheres
+        .iter()
+        .map(|s| 2.0 * s.radius)
+        .fold(0.0, f64::max);
+    let min_width = if max_d > 0.0 {
+        max_d * (1.0 + 1e-6)
+    } else {
+        1.0
+    };
+    Ok(match world.boundary {
+        Boundary::Periodic { size } => {
+            for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+                if !(size[k].is_finite() && size[k] >= 3.0 * min_width) {
+                    return Err(SimError::Box {
+                        axis,
+                        length: size[k],
+                        needed: 3.0 * min_width,
+                    });
+                }
+            }
+            // At most about four cells per sphere (and 27, three a side, at least): a
+            // sparse box gets wider cells, not a huge grid.
+            let cells = Cells::new(DVec3::ZERO, size, min_width, (4 * n).max(27), n);
+            if cells.n.iter().any(|&k| k < 3) {
+                return Err(SimError::Box {
+                    axis: "x, y or z",
+                    length: size.min_element(),
+                    needed: 3.0 * min_width,
+                });
+            }
+            (cells, true)
+        }
+        Boundary::OpenBox { lo, hi } => (Cells::new(lo, hi - lo, min_width, 2 * n + 64, n), false),
+        Boundary::Open => {
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for s in &world.spheres {
+                lo = lo.min(s.centre - s.radius);
+                hi = hi.max(s.centre + s.radius);
+            }
+            for (k, r) in world.statics.iter().filter_map(|(_, s, _)| s.interior()) {
+                lo = lo.min(k - r);
+                hi = hi.max(k + r);
+            }
+            if n == 0 {
+                (lo, hi) = (DVec3::ZERO, DVec3::ONE);
+            }
+            let extent = (hi - lo).max(DVec3::splat(min_width));
+            (Cells::new(lo, extent, min_width, 2 * n + 64, n), false)
+        }
+    })
+}
+
+/// The spheres as the engine moves them, at time 0 (periodic centres wrapped into the box).
+fn motion(world: &World, cells: &Cells, periodic: bool) -> Motion {
+    let n = world.spheres.len();
+    let mut m = Motion {
+        bodies: Vec::with_capacity(n),
+        mass: world.spheres.iter().map(|s| s.mass).collect(),
+        material: world.spheres.iter().map(|s| s.material).collect(),
+        counter: vec![0; n],
+    };
+    for s in &world.spheres {
+        let mut r = s.centre;
+        if periodic {
+            r -= cells.len * (r / cells.len).floor();
+            // `x − L·floor(x/L)` can round up to `L`.
+            r = r.min(cells.len * (1.0 - f64::EPSILON));
+        }
+        m.bodies.push(response::Trajectory {
+            r,
+            t: 0.0,
+            v: s.velocity,
+            radius: s.radius,
+        });
+    }
+    m
+}
+
+/// Which responder the spheres and shapes actually in the scene call for.
+enum ResponseChoice {
+    /// The world only reports contacts.
+    ReportOnly,
+    /// Every pair of materials that can meet is elastic.
+    Elastic,
+    /// The response of each pair of materials (`count × count`, row-major).
+    Materials { table: Vec<Response>, count: usize },
+}
+
+impl ResponseChoice {
+    /// From the world's effects and the spheres' materials: a pair of materials matters if
+    /// a sphere of one can meet a body of the other.
+    fn of(world: &World, sphere_materials: &[u16]) -> Self {
+        if world.effects.response == Response::ReportOnly {
+            return Self::ReportOnly;
+        }
+        let count = world.materials.len().max(1);
+        let mut table = vec![world.effects.response; count * count];
+        for p in &world.effects.pairs {
+            let (a, b) = (usize::from(p.a), usize::from(p.b));
+            table[a * count + b] = p.response;
+            table[b * count + a] = p.response;
+        }
+        let mut used = vec![false; count];
+        for &mat in sphere_materials
+            .iter()
+            .chain(world.statics.iter().map(|(_, _, m)| m))
+        {
+            used[usize::from(mat)] = true;
+        }
+        let mut sphere_used = vec![false; count];
+        for &mat in sphere_materials {
+            sphere_used[usize::from(mat)] = true;
+        }
+        let all_elastic = (0..count).all(|a| {
+            (0..count)
+                .all(|b| !(sphere_used[a] && used[b]) || table[a * count + b] == Response::Elastic)
+        });
+        if all_elastic {
+            Self::Elastic
+        } else {
+            Self::Materials { table, count }
+        }
+    }
+}
+
+/// The three compile-time switches of `Engine`, as the world sets them.
+#[derive(Debug, Clone, Copy)]
+struct Switches {
+    /// The box wraps.
+    periodic: bool,
+    /// Any static shape at all.
+    walls: bool,
+    /// Contact point and normal in the event log.
+    geometry: bool,
+}
+
+/// What every engine is built from, whatever its type.
+struct Parts {
+    m: Motion,
+    cells: Cells,
+    walls: Statics<u16>,
+    log: bool,
+}
+
+// The choice of engine, one switch at a time: `pick_periodic` fixes `PERIODIC`, `pick_walls`
+// `WALLS`, `pick_geometry` `GEOMETRY`; each responder therefore has the eight engines of its
+// switches, and nothing else is monomorphised.
+
+fn pick_periodic<R: Responder + Clusters + 'static>(
+    r: R,
+    s: Switches,
+    parts: Parts,
+) -> Box<dyn Run> {
+    if s.periodic {
+        pick_walls::<R, true>(r, s, parts)
+    } else {
+        pick_walls::<R, false>(r, s, parts)
+    }
+}
+
+fn pick_walls<R: Responder + Clusters + 'static, const P: bool>(
+    r: R,
+    s: Switches,
+    parts: Parts,
+) -> Box<dyn Run> {
+    if s.walls {
+        pick_geometry::<R, P, true>(r, s, parts)
+    } else {
+        pick_geometry::<R, P, false>(r, s, parts)
+    }
+}
+
+fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool>(
+    r: R,
+    s: Switches,
+    parts: Parts,
+) -> Box<dyn Run> {
+    let Parts {
+        m,
+        cells,
+        walls,
+        log,
+    } = parts;
+    if s.geometry {
+        Box::new(Engine::<R, P, W, true>::new(m, cells, walls, r, log))
+    } else {
+        Box::new(Engine::<R, P, W, false>::new(m, cells, walls, r, log))
     }
 }
 

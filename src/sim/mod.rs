@@ -27,6 +27,8 @@ mod engine;
 pub mod generate;
 mod invariant;
 mod model;
+pub mod observables;
+mod persist;
 mod predict;
 mod queue;
 mod records;

@@ -104,6 +104,9 @@ fn checkpoints_resume_bit_for_bit() {
         let mut a = Simulation::new(world.clone()).unwrap();
         a.advance_to(t / 3.0).unwrap();
         let saved = a.checkpoint();
+        // Load then save is the identity: every value read is written back in place.
+        let restored = Simulation::restore(world.clone(), &saved).unwrap();
+        assert_eq!(restored.checkpoint(), saved, "{}", a.engine_name());
         a.advance_to(t).unwrap();
         let mut b = Simulation::restore(world.clone(), &saved).unwrap();
         b.advance_to(t).unwrap();

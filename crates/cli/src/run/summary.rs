@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use serde::Serialize;
-use spheresweep::sim::{Boundary, Response, World};
+use spheresweep::sim::{Boundary, Response, World, observables};
 
 use super::outputs::{self, Manifest};
 use super::simulate::Run;
@@ -22,7 +22,6 @@ pub struct About {
     pub walls: usize,
     pub elastic: bool,
     pub equal_radii: bool,
-    pub sphere_volume: f64,
 }
 
 impl About {
@@ -51,11 +50,6 @@ impl About {
             walls: world.statics.len(),
             elastic: world.effects.response == Response::Elastic && world.effects.pairs.is_empty(),
             equal_radii: world.spheres.windows(2).all(|w| w[0].radius == w[1].radius),
-            sphere_volume: world
-                .spheres
-                .iter()
-                .map(|s| 4.0 / 3.0 * std::f64::consts::PI * s.radius.powi(3))
-                .sum(),
         }
     }
 }
@@ -260,10 +254,7 @@ impl Summary {
             predictions: stats.predictions,
             guarded: stats.guarded,
             virial: stats.virial,
-            pressure: run
-                .place
-                .periodic_box
-                .map(|b| pressure(b, ke1, stats.virial, sim.time(), about)),
+            pressure: sim.pressure().map(|p| Pressure::of(p, about)),
             frames: c.frames,
             events: run.settings.record_events.then_some(c.logged),
             run: Manifest::new(run.fingerprint, &run.settings),
@@ -271,20 +262,18 @@ impl Summary {
     }
 }
 
-/// The pressure of a periodic box from the collision virial.
-fn pressure(b: DVec3, ke: f64, virial: f64, t: f64, about: &About) -> Pressure {
-    let n = about.spheres as f64;
-    let v = b.x * b.y * b.z;
-    let p = (2.0 * ke / 3.0 + virial / (3.0 * t)) / v;
-    let kt = 2.0 * ke / (3.0 * n);
-    let phi = about.sphere_volume / v;
-    Pressure {
-        p,
-        z: p * v / (n * kt),
-        phi,
-        kt,
-        carnahan_starling: (about.elastic && about.equal_radii)
-            .then(|| (1.0 + phi + phi * phi - phi.powi(3)) / (1.0 - phi).powi(3)),
+impl Pressure {
+    /// The library's pressure of a periodic box (`Simulation::pressure`), with
+    /// Carnahan–Starling's `Z` beside it for an elastic gas of equal spheres.
+    fn of(p: observables::Pressure, about: &About) -> Self {
+        Self {
+            p: p.p,
+            z: p.z,
+            phi: p.phi,
+            kt: p.kt,
+            carnahan_starling: (about.elastic && about.equal_radii)
+                .then(|| observables::carnahan_starling_z(p.phi)),
+        }
     }
 }
 

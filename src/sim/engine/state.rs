@@ -1,0 +1,261 @@
+//! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
+//! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
+//! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
+//! cells' contents, the calendar). The layout is format version 2 (`sim::checkpoint`).
+
+use super::{Best, Candidate, Engine};
+use crate::contact::Body;
+use crate::shape::ShapeKind;
+use crate::sim::cells::NONE;
+use crate::sim::checkpoint::{Decoder, Encoder};
+use crate::sim::model::SimError;
+use crate::sim::persist::{Persist, persist_fields};
+use crate::sim::response::{Responder, Trajectory};
+
+persist_fields!(Trajectory { r, t, v, radius });
+persist_fields!(Candidate { t, j, counter });
+persist_fields!(Best {
+    pairs,
+    complete,
+    wall_t,
+    wall,
+    cross_t,
+    cross_axis,
+    cross_up
+});
+
+/// The engine's state in checkpoint order, for both directions: `$each!(place)` on every
+/// value (`save` reads the place, `load` replaces it). Per sphere, in internal order, its
+/// counter, public index, cell and pending event sit together; the response's state follows
+/// (`Responder::save`). What is not listed is derived from it, or from the world.
+macro_rules! engine_state {
+    ($engine:ident, $each:ident) => {
+        $each!($engine.now);
+        $each!($engine.m.bodies);
+        for k in 0..$engine.best.len() {
+            $each!($engine.m.counter[k]);
+            $each!($engine.id_of[k]);
+            $each!($engine.cells.at[k]);
+            $each!($engine.best[k]);
+        }
+        for k in 0..$engine.images.len() {
+            $each!($engine.images[k]);
+        }
+        $each!($engine.since_reorder);
+        $each!($engine.same_time);
+        $each!($engine.stall_limit);
+        $each!($engine.reorder_every);
+        $each!($engine.window_start);
+        $each!($engine.min_progress);
+        $each!($engine.width);
+        $each!($engine.stats);
+    };
+}
+
+fn bad(what: String) -> SimError {
+    SimError::Checkpoint(what)
+}
+
+impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
+    Engine<R, PERIODIC, WALLS, GEOMETRY>
+{
+    /// Writes the whole dynamic state (see `sim::checkpoint`), in internal order.
+    pub fn save(&self, e: &mut Encoder) {
+        let engine = self;
+        macro_rules! each {
+            ($place:expr) => {
+                Persist::save(&$place, e)
+            };
+        }
+        engine_state!(engine, each);
+        self.responder.save(e);
+    }
+
+    /// Restores what [`save`](Self::save) wrote into an engine built from the same world;
+    /// `masses` and `materials` are the world's, in public order. Every index is checked, so a
+    /// damaged checkpoint is refused, never a panic.
+    pub fn load(
+        &mut self,
+        d: &mut Decoder,
+        masses: &[f64],
+        materials: &[u16],
+    ) -> Result<(), SimError> {
+        let radii = self.public_radii();
+        {
+            let engine = &mut *self;
+            macro_rules! each {
+                ($place:expr) => {
+                    Persist::load(&mut $place, d)?
+                };
+            }
+            engine_state!(engine, each);
+        }
+        self.check_bodies(&radii)?;
+        for k in 0..self.best.len() {
+            self.check_sphere(k)?;
+        }
+        if !(self.width.is_finite() && self.width > 0.0 && self.now.is_finite()) {
+            return Err(bad(format!(
+                "time {} or calendar width {} invalid",
+                self.now, self.width
+            )));
+        }
+        self.responder.load(d, self.m.bodies.len())?;
+        self.rebuild(masses, materials);
+        Ok(())
+    }
+
+    /// The world's radii, in public order (read before a checkpoint replaces the state).
+    fn public_radii(&self) -> Vec<f64> {
+        let mut radii = vec![0.0; self.m.bodies.len()];
+        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+            radii[id as usize] = b.radius;
+        }
+        radii
+    }
+
+    /// Loaded bodies: finite, numbered by a permutation, each with its world's radius.
+    fn check_bodies(&self, radii: &[f64]) -> Result<(), SimError> {
+        let n = self.m.bodies.len();
+        for b in &self.m.bodies {
+            let x = [b.r.x, b.r.y, b.r.z, b.t, b.v.x, b.v.y, b.v.z, b.radius];
+            if !x.iter().all(|v| v.is_finite()) {
+                return Err(bad("a sphere's state is not finite".into()));
+            }
+        }
+        let mut seen = vec![false; n];
+        for (k, &id) in self.id_of.iter().enumerate() {
+            if id as usize >= n || std::mem::replace(&mut seen[id as usize], true) {
+                return Err(bad(format!(
+                    "sphere numbering is not a permutation (entry {k})"
+                )));
+            }
+        }
+        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+            if b.radius != radii[id as usize] {
+                return Err(bad(format!(
+                    "sphere {id}: radius {} is not the world's {}",
+                    b.radius, radii[id as usize]
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// One loaded sphere (internal index `k`): its cell in the grid, its partners and static
+    /// shape existing, its crossing inside an open grid, no event time NaN. A crossing axis
+    /// beyond `z` is read as `z`, as the format always has.
+    fn check_sphere(&mut self, k: usize) -> Result<(), SimError> {
+        let n = self.m.bodies.len();
+        let id = self.id_of[k];
+        let c = self.cells.at[k];
+        for (a, &v) in c.iter().enumerate() {
+            if v < 0 || v >= self.cells.n[a] {
+                return Err(bad(format!("sphere {id}: cell {v} outside the grid")));
+            }
+        }
+        let b = &mut self.best[k];
+        b.cross_axis = b.cross_axis.min(2);
+        for &Candidate { t, j, .. } in &b.pairs {
+            if j != NONE && j as usize >= n {
+                return Err(bad(format!("sphere {id}: partner {j} does not exist")));
+            }
+            // An event without a partner never fires (found by fuzzing: it indexed
+            // sphere 2³² − 1).
+            if j == NONE && t != f64::INFINITY {
+                return Err(bad(format!(
+                    "sphere {id}: a pair event at t = {t} without a partner"
+                )));
+            }
+        }
+        let b = *b;
+        self.check_wall(id, b.wall, b.wall_t)?;
+        let axis = usize::from(b.cross_axis);
+        let next = c[axis] + if b.cross_up { 1 } else { -1 };
+        if !PERIODIC && b.cross_t != f64::INFINITY && (next < 0 || next >= self.cells.n[axis]) {
+            return Err(bad(format!("sphere {id}: a crossing out of the grid")));
+        }
+        if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.cross_t]
+            .iter()
+            .any(|t| t.is_nan())
+        {
+            return Err(bad(format!("sphere {id}: an event time is NaN")));
+        }
+        Ok(())
+    }
+
+    /// A sphere's next static shape: of a static kind, and existing if its time is finite.
+    fn check_wall(&self, id: u32, wall: Body, wall_t: f64) -> Result<(), SimError> {
+        if wall.kind == ShapeKind::Sphere {
+            let code = wall.kind.code();
+            return Err(bad(format!("sphere {id}: static shape kind {code}")));
+        }
+        if wall_t != f64::INFINITY && self.walls.get(wall).is_none() {
+            return Err(bad(format!("sphere {id}: {wall} does not exist")));
+        }
+        Ok(())
+    }
+
+    /// What a checkpoint does not hold, rebuilt from the loaded state and the world: masses and
+    /// materials in internal order, the cells' contents, an empty log and a fresh calendar.
+    fn rebuild(&mut self, masses: &[f64], materials: &[u16]) {
+        let n = self.m.bodies.len();
+        self.m.mass = self.id_of.iter().map(|&id| masses[id as usize]).collect();
+        self.m.material = self
+            .id_of
+            .iter()
+            .map(|&id| materials[id as usize])
+            .collect();
+        self.cells.clear();
+        for k in 0..n {
+            self.cells.insert(k as u32, self.cells.at[k]);
+        }
+        if let Some(log) = &mut self.log {
+            log.clear();
+        }
+        self.responder
+            .set_time_scale(self.width * n.max(1) as f64 / 2.0);
+        self.reschedule();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::sim::persist::tests::round_trip;
+
+    /// A pending event with every field set: its description covers them all.
+    #[test]
+    fn a_pending_event_round_trips() {
+        let best = Best {
+            pairs: [
+                Candidate {
+                    t: 1.5,
+                    j: 3,
+                    counter: 7,
+                },
+                Candidate {
+                    t: 2.5,
+                    j: 4,
+                    counter: 8,
+                },
+            ],
+            complete: false,
+            wall_t: 3.5,
+            wall: Body::new(ShapeKind::Cylinder, 9),
+            cross_t: 4.5,
+            cross_axis: 2,
+            cross_up: true,
+        };
+        assert_ne!(best, Best::default());
+        round_trip(&best);
+        round_trip(&Trajectory {
+            r: DVec3::new(1.0, 2.0, 3.0),
+            t: 4.0,
+            v: DVec3::new(5.0, 6.0, 7.0),
+            radius: 8.0,
+        });
+    }
+}
