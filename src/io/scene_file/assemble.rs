@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::locate::Seg::{self, At, Key};
 use super::locate::show;
-use super::{BoundaryKind, ResponseKind, RunSettings, SceneFile, SceneFileError, SphereTable};
+use super::{BoundaryKind, RunSettings, SceneFile, SceneFileError, SphereTable};
 use crate::sim::{Boundary, Effects, Fixed, MaterialPair, Response, SphereState, World};
 use crate::{Container, Cylinder, Plane};
 
@@ -96,44 +96,57 @@ impl SceneFile {
         }
     }
 
+    /// The response a table names, with its `restitution`: required by `"inelastic"` (in
+    /// `[0, 1]`), refused with any other response.
     fn response(
         &self,
-        kind: ResponseKind,
+        name: &str,
         restitution: Option<f64>,
         item: &str,
         path: &[Seg],
     ) -> Result<Response, SceneFileError> {
-        let mut at: Vec<Seg> = path.to_vec();
-        at.push(Key("restitution"));
-        match (kind, restitution) {
-            (ResponseKind::Inelastic, Some(e)) if (0.0..=1.0).contains(&e) => {
-                Ok(Response::Inelastic { restitution: e })
-            }
-            (ResponseKind::Inelastic, Some(e)) => {
-                Err(self.item_error(item, &at, format!("restitution = {e:?} must be in [0, 1]")))
-            }
-            (ResponseKind::Inelastic, None) => Err(self.item_error(
+        let field = |key| {
+            let mut at = path.to_vec();
+            at.push(Key(key));
+            at
+        };
+        // NaN when absent: then "inelastic" is refused below, and the others ignore it.
+        let Some(response) = Response::named(name, restitution.unwrap_or(f64::NAN)) else {
+            // Refused when parsed (`response_name`); reached by tables built in code only.
+            let names = Response::NAMES.map(|n| format!("{n:?}")).join(", ");
+            return Err(self.item_error(
+                item,
+                &field("response"),
+                format!("response = {name:?} is not one of {names}"),
+            ));
+        };
+        match (response, restitution) {
+            (Response::Inelastic { .. }, Some(e)) if (0.0..=1.0).contains(&e) => Ok(response),
+            (Response::Inelastic { .. }, Some(e)) => Err(self.item_error(
+                item,
+                &field("restitution"),
+                format!("restitution = {e:?} must be in [0, 1]"),
+            )),
+            (Response::Inelastic { .. }, None) => Err(self.item_error(
                 item,
                 path,
                 "response = \"inelastic\" needs `restitution` (in [0, 1])".into(),
             )),
-            (k, Some(_)) => Err(self.item_error(
+            (other, Some(_)) => Err(self.item_error(
                 item,
-                &at,
+                &field("restitution"),
                 format!(
                     "restitution applies only to response = \"inelastic\", not {:?}",
-                    k.name()
+                    other.name()
                 ),
             )),
-            (ResponseKind::None, None) => Ok(Response::None),
-            (ResponseKind::Elastic, None) => Ok(Response::Elastic),
-            (ResponseKind::Sticky, None) => Ok(Response::Sticky),
+            (other, None) => Ok(other),
         }
     }
 
     pub(super) fn effects(&self, names: &[String]) -> Result<Effects, SceneFileError> {
         let e = &self.effects;
-        let response = self.response(e.response, e.restitution, "effects", &[Key("effects")])?;
+        let response = self.response(&e.response, e.restitution, "effects", &[Key("effects")])?;
         if !(e.tc.is_finite() && e.tc >= 0.0) {
             return Err(self.item_error(
                 "effects",
@@ -148,7 +161,7 @@ impl SceneFile {
             let at = |k| [Key("effects"), Key("pair"), At(i), Key(k)];
             let a = self.material_index(names, Some(&p.a), &item, &at("a"))?;
             let b = self.material_index(names, Some(&p.b), &item, &at("b"))?;
-            let r = self.response(p.response, p.restitution, &item, &path)?;
+            let r = self.response(&p.response, p.restitution, &item, &path)?;
             if r == Response::None {
                 return Err(self.item_error(
                     item,

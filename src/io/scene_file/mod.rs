@@ -56,8 +56,7 @@ mod tests;
 pub use error::SceneFileError;
 pub use schema::{
     BoundaryKind, BoundaryTable, ContainerTable, CylinderTable, EffectsTable, GenerateKind,
-    GenerateTable, MaterialTable, PairTable, PlaneTable, ResponseKind, RunTable, SceneFile,
-    SphereTable,
+    GenerateTable, MaterialTable, PairTable, PlaneTable, RunTable, SceneFile, SphereTable,
 };
 
 use locate::Seg::Key;
