@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use super::locate::Seg::{self, At, Key};
 use super::locate::show;
+use super::schema::{ContainerTable, CylinderTable, MaterialTable, Origin, PlaneTable};
 use super::{BoundaryKind, RunSettings, SceneFile, SceneFileError, SphereTable};
 use crate::sim::{Boundary, Effects, Fixed, MaterialPair, Response, SphereState, World};
 use crate::{Container, Cylinder, Plane};
@@ -36,64 +37,7 @@ impl SceneFile {
     }
 
     pub(super) fn materials(&self) -> Result<Vec<String>, SceneFileError> {
-        if self.material.is_empty() {
-            return Ok(vec!["default".into()]);
-        }
-        if self.material.len() > crate::sim::MAX_MATERIALS {
-            let max = crate::sim::MAX_MATERIALS;
-            return Err(self.item_error(
-                format!("material {max}"),
-                &[Key("material"), At(max)],
-                format!("at most {max} materials"),
-            ));
-        }
-        let mut names: Vec<String> = Vec::with_capacity(self.material.len());
-        for (i, m) in self.material.iter().enumerate() {
-            let path = [Key("material"), At(i), Key("name")];
-            if m.name.trim().is_empty() {
-                return Err(self.item_error(
-                    format!("material {i}"),
-                    &path,
-                    "name is empty".into(),
-                ));
-            }
-            if let Some(j) = names.iter().position(|n| *n == m.name) {
-                return Err(self.item_error(
-                    format!("material {i}"),
-                    &path,
-                    format!("name {:?} is already material {j}", m.name),
-                ));
-            }
-            names.push(m.name.clone());
-        }
-        Ok(names)
-    }
-
-    /// The index of a material named by `item` (the first when `name` is `None`).
-    pub(super) fn material_index(
-        &self,
-        names: &[String],
-        name: Option<&str>,
-        item: &str,
-        path: &[Seg],
-    ) -> Result<u16, SceneFileError> {
-        let Some(name) = name else { return Ok(0) };
-        match names.iter().position(|n| n == name) {
-            // At most MAX_MATERIALS names (checked in `materials`).
-            Some(i) => Ok(i as u16),
-            None => Err(self.item_error(
-                item,
-                path,
-                format!(
-                    "material {name:?} is not declared (declared: {})",
-                    names
-                        .iter()
-                        .map(|n| format!("{n:?}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            )),
-        }
+        self.origin.material_names(&self.material)
     }
 
     /// The response a table names, with its `restitution`: required by `"inelastic"` (in
@@ -159,8 +103,12 @@ impl SceneFile {
             let item = format!("effects.pair {i}");
             let path = [Key("effects"), Key("pair"), At(i)];
             let at = |k| [Key("effects"), Key("pair"), At(i), Key(k)];
-            let a = self.material_index(names, Some(&p.a), &item, &at("a"))?;
-            let b = self.material_index(names, Some(&p.b), &item, &at("b"))?;
+            let a = self
+                .origin
+                .material_index(names, Some(&p.a), &item, &at("a"))?;
+            let b = self
+                .origin
+                .material_index(names, Some(&p.b), &item, &at("b"))?;
             let r = self.response(&p.response, p.restitution, &item, &path)?;
             if r == Response::None {
                 return Err(self.item_error(
@@ -281,48 +229,15 @@ impl SceneFile {
     }
 
     pub(super) fn shapes(&self, world: &mut World) -> Result<(), SceneFileError> {
-        let f32s = |v: [f64; 3]| v.map(|x| x as f32);
-        for (i, p) in self.plane.iter().enumerate() {
-            let item = format!("plane {i}");
-            let path = |k| [Key("plane"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                p.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Plane::new(f32s(p.point), f32s(p.normal))
-                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.planes.push(Fixed { shape, material });
-        }
-        for (i, c) in self.cylinder.iter().enumerate() {
-            let item = format!("cylinder {i}");
-            let path = |k| [Key("cylinder"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                c.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Cylinder::new(f32s(c.p1), f32s(c.p2), c.radius as f32).map_err(|e| {
-                let field = if e.field == "axis" { "p2" } else { e.field };
-                self.shape_error(&item, &path(field), e)
-            })?;
-            world.cylinders.push(Fixed { shape, material });
-        }
-        for (i, c) in self.container.iter().enumerate() {
-            let item = format!("container {i}");
-            let path = |k| [Key("container"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                c.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Container::new(f32s(c.centre), c.radius as f32)
-                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.containers.push(Fixed { shape, material });
-        }
+        let shapes = self.origin.static_shapes(
+            &world.materials,
+            &self.plane,
+            &self.cylinder,
+            &self.container,
+        )?;
+        world.planes = shapes.planes;
+        world.cylinders = shapes.cylinders;
+        world.containers = shapes.containers;
         Ok(())
     }
 
@@ -335,7 +250,8 @@ impl SceneFile {
         let item = format!("sphere {i}");
         let path = |k| [Key("sphere"), At(i), Key(k)];
         let material =
-            self.material_index(names, s.material.as_deref(), &item, &path("material"))?;
+            self.origin
+                .material_index(names, s.material.as_deref(), &item, &path("material"))?;
         let bad = |field: &'static str, problem: String| {
             Err(self.item_error(&item, &path(field), format!("{field} {problem}")))
         };
@@ -365,5 +281,125 @@ impl SceneFile {
             mass: s.mass,
             material,
         })
+    }
+}
+
+/// The static shapes of a file by kind, each with its material index.
+#[derive(Debug, Default)]
+pub(super) struct StaticShapes {
+    pub(super) planes: Vec<Fixed<Plane>>,
+    pub(super) cylinders: Vec<Fixed<Cylinder>>,
+    pub(super) containers: Vec<Fixed<Container>>,
+}
+
+/// The checks a static-shape group needs alone (a shapes file) as in a whole scene: material
+/// names and the shapes, each error located in the text.
+impl Origin {
+    /// The names `[[material]]` declares, in index order (`"default"` when none is).
+    pub(super) fn material_names(
+        &self,
+        tables: &[MaterialTable],
+    ) -> Result<Vec<String>, SceneFileError> {
+        if tables.is_empty() {
+            return Ok(vec!["default".into()]);
+        }
+        if tables.len() > crate::sim::MAX_MATERIALS {
+            let max = crate::sim::MAX_MATERIALS;
+            return Err(self.item_error(
+                format!("material {max}"),
+                &[Key("material"), At(max)],
+                format!("at most {max} materials"),
+            ));
+        }
+        let mut names: Vec<String> = Vec::with_capacity(tables.len());
+        for (i, m) in tables.iter().enumerate() {
+            let path = [Key("material"), At(i), Key("name")];
+            if m.name.trim().is_empty() {
+                return Err(self.item_error(
+                    format!("material {i}"),
+                    &path,
+                    "name is empty".into(),
+                ));
+            }
+            if let Some(j) = names.iter().position(|n| *n == m.name) {
+                return Err(self.item_error(
+                    format!("material {i}"),
+                    &path,
+                    format!("name {:?} is already material {j}", m.name),
+                ));
+            }
+            names.push(m.name.clone());
+        }
+        Ok(names)
+    }
+
+    /// The index of a material named by `item` (the first when `name` is `None`).
+    pub(super) fn material_index(
+        &self,
+        names: &[String],
+        name: Option<&str>,
+        item: &str,
+        path: &[Seg],
+    ) -> Result<u16, SceneFileError> {
+        let Some(name) = name else { return Ok(0) };
+        match names.iter().position(|n| n == name) {
+            // At most MAX_MATERIALS names (checked in `material_names`).
+            Some(i) => Ok(i as u16),
+            None => Err(self.item_error(
+                item,
+                path,
+                format!(
+                    "material {name:?} is not declared (declared: {})",
+                    names
+                        .iter()
+                        .map(|n| format!("{n:?}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )),
+        }
+    }
+
+    /// The static shapes of the `[[plane]]`, `[[cylinder]]` and `[[container]]` tables, each
+    /// with its material's index among `names`.
+    pub(super) fn static_shapes(
+        &self,
+        names: &[String],
+        planes: &[PlaneTable],
+        cylinders: &[CylinderTable],
+        containers: &[ContainerTable],
+    ) -> Result<StaticShapes, SceneFileError> {
+        let mut out = StaticShapes::default();
+        let f32s = |v: [f64; 3]| v.map(|x| x as f32);
+        for (i, p) in planes.iter().enumerate() {
+            let item = format!("plane {i}");
+            let path = |k| [Key("plane"), At(i), Key(k)];
+            let material =
+                self.material_index(names, p.material.as_deref(), &item, &path("material"))?;
+            let shape = Plane::new(f32s(p.point), f32s(p.normal))
+                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
+            out.planes.push(Fixed { shape, material });
+        }
+        for (i, c) in cylinders.iter().enumerate() {
+            let item = format!("cylinder {i}");
+            let path = |k| [Key("cylinder"), At(i), Key(k)];
+            let material =
+                self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            let shape = Cylinder::new(f32s(c.p1), f32s(c.p2), c.radius as f32).map_err(|e| {
+                let field = if e.field == "axis" { "p2" } else { e.field };
+                self.shape_error(&item, &path(field), e)
+            })?;
+            out.cylinders.push(Fixed { shape, material });
+        }
+        for (i, c) in containers.iter().enumerate() {
+            let item = format!("container {i}");
+            let path = |k| [Key("container"), At(i), Key(k)];
+            let material =
+                self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            let shape = Container::new(f32s(c.centre), c.radius as f32)
+                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
+            out.containers.push(Fixed { shape, material });
+        }
+        Ok(out)
     }
 }

@@ -72,7 +72,7 @@ impl SceneFile {
                 ));
             }
             total += count;
-            let material = self.material_index(
+            let material = self.origin.material_index(
                 &world.materials,
                 g.material.as_deref(),
                 &item,

@@ -53,6 +53,22 @@ pub struct SceneFile {
     pub(super) origin: Origin,
 }
 
+/// The static shapes of a scene and the materials they name, alone: the `[[material]]`,
+/// `[[plane]]`, `[[cylinder]]` and `[[container]]` tables of [`SceneFile`], as
+/// [`read_statics`](super::read_statics) parses them (any other table is refused).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShapesFile {
+    #[serde(default)]
+    pub(super) material: Vec<MaterialTable>,
+    #[serde(default)]
+    pub(super) plane: Vec<PlaneTable>,
+    #[serde(default)]
+    pub(super) cylinder: Vec<CylinderTable>,
+    #[serde(default)]
+    pub(super) container: Vec<ContainerTable>,
+}
+
 /// Where a scene came from, for messages: its path and, for TOML, its text (to find lines).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Origin {
