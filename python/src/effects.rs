@@ -32,27 +32,28 @@ pub(crate) fn scene_response(
 ) -> PyResult<Response> {
     let response = response.map(|r| text(r, "response")).transpose()?;
     let restitution = restitution.map(|e| real(e, "restitution")).transpose()?;
-    match (response.as_deref(), restitution) {
-        (None, None) | (Some("elastic"), None) => Ok(Response::Elastic),
-        (None, Some(e)) => response_of(e, "restitution:"),
-        (Some("inelastic"), Some(e)) => {
+    let Some(name) = response else {
+        return restitution.map_or(Ok(Response::Elastic), |e| response_of(e, "restitution:"));
+    };
+    // NaN when absent: then "inelastic" is refused below, and the others ignore it.
+    let named = Response::named(&name, restitution.unwrap_or(f64::NAN)).ok_or_else(|| {
+        let names = Response::NAMES.map(|n| format!("{n:?}")).join(", ");
+        PyValueError::new_err(format!("response: {name:?} is not one of {names}"))
+    })?;
+    match (named, restitution) {
+        (Response::Inelastic { .. }, Some(e)) => {
             response_of(e, "restitution:")?;
-            Ok(Response::Inelastic { restitution: e })
+            Ok(named)
         }
-        (Some("inelastic"), None) => Err(PyValueError::new_err(
+        (Response::Inelastic { .. }, None) => Err(PyValueError::new_err(
             "restitution: required with response \"inelastic\"",
         )),
-        (Some("none"), None) => Ok(Response::ReportOnly),
-        (Some("sticky"), None) => Ok(Response::Sticky),
-        (Some(name @ ("none" | "elastic" | "sticky")), Some(e)) => {
-            Err(PyValueError::new_err(format!(
-                "restitution: {} given with response {name:?} (it applies to \"inelastic\" only)",
-                show(e)
-            )))
-        }
-        (Some(other), _) => Err(PyValueError::new_err(format!(
-            "response: {other:?} is not one of \"none\", \"elastic\", \"inelastic\", \"sticky\""
+        (other, Some(e)) => Err(PyValueError::new_err(format!(
+            "restitution: {} given with response {:?} (it applies to \"inelastic\" only)",
+            show(e),
+            other.name()
         ))),
+        (other, None) => Ok(other),
     }
 }
 
@@ -89,9 +90,8 @@ pub(crate) fn material_pair(item: &Bound<'_, PyAny>, what: &str) -> PyResult<sim
     let b = material_index(&parts[1], &format!("{what}.b"))?;
     let label = format!("{what}.response");
     let response = if let Ok(name) = parts[2].extract::<String>() {
-        match name.as_str() {
-            "elastic" => Response::Elastic,
-            "sticky" => Response::Sticky,
+        match Response::named(&name, f64::NAN) {
+            Some(named @ (Response::Elastic | Response::Sticky)) => named,
             _ => {
                 return Err(PyValueError::new_err(format!(
                     "{label}: {name:?} is not a restitution, \"elastic\" or \"sticky\""

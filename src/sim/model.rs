@@ -42,6 +42,46 @@ pub enum Response {
     Sticky,
 }
 
+impl Response {
+    /// The responses' names, as scene files (`[effects] response`) and the Python binding
+    /// spell them, in the order of the variants.
+    pub const NAMES: [&'static str; 4] = ["none", "elastic", "inelastic", "sticky"];
+
+    /// The response called `name` (one of [`NAMES`](Self::NAMES)); `"inelastic"` takes
+    /// `restitution` as its coefficient, the others ignore it; `None` for any other name. The
+    /// one reading of response names: which fields go with which name, and their ranges, are
+    /// each caller's to check and word ([`World::validate`] checks the range too).
+    ///
+    /// ```
+    /// use spheresweep::sim::Response;
+    /// assert_eq!(Response::named("sticky", 0.5), Some(Response::Sticky));
+    /// assert_eq!(Response::named("inelastic", 0.5), Some(Response::Inelastic { restitution: 0.5 }));
+    /// assert_eq!(Response::named("bouncy", 0.5), None);
+    /// for name in Response::NAMES {
+    ///     assert_eq!(Response::named(name, 0.5).map(|r| r.name()), Some(name));
+    /// }
+    /// ```
+    pub fn named(name: &str, restitution: f64) -> Option<Self> {
+        match name {
+            "none" => Some(Response::ReportOnly),
+            "elastic" => Some(Response::Elastic),
+            "inelastic" => Some(Response::Inelastic { restitution }),
+            "sticky" => Some(Response::Sticky),
+            _ => None,
+        }
+    }
+
+    /// Its name (one of [`NAMES`](Self::NAMES)).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Response::ReportOnly => "none",
+            Response::Elastic => "elastic",
+            Response::Inelastic { .. } => "inelastic",
+            Response::Sticky => "sticky",
+        }
+    }
+}
+
 /// A response for one pair of materials, overriding [`Effects::response`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialPair {

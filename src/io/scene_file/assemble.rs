@@ -5,7 +5,9 @@ use glam::DVec3;
 
 use super::locate::Seg::{self, At, Key};
 use super::locate::show;
-use super::{BoundaryKind, ResponseKind, RunSettings, SceneFile, SceneFileError, SphereTable};
+use super::schema::{ContainerTable, CylinderTable, MaterialTable, Origin, PlaneTable};
+use super::{BoundaryKind, RunSettings, SceneFile, SceneFileError, SphereTable};
+use crate::Statics;
 use crate::sim::{Boundary, Effects, MaterialPair, Response, SphereState, World};
 use crate::{Container, Cylinder, Plane};
 
@@ -36,104 +38,60 @@ impl SceneFile {
     }
 
     pub(super) fn materials(&self) -> Result<Vec<String>, SceneFileError> {
-        if self.material.is_empty() {
-            return Ok(vec!["default".into()]);
-        }
-        if self.material.len() > crate::sim::MAX_MATERIALS {
-            let max = crate::sim::MAX_MATERIALS;
-            return Err(self.item_error(
-                format!("material {max}"),
-                &[Key("material"), At(max)],
-                format!("at most {max} materials"),
-            ));
-        }
-        let mut names: Vec<String> = Vec::with_capacity(self.material.len());
-        for (i, m) in self.material.iter().enumerate() {
-            let path = [Key("material"), At(i), Key("name")];
-            if m.name.trim().is_empty() {
-                return Err(self.item_error(
-                    format!("material {i}"),
-                    &path,
-                    "name is empty".into(),
-                ));
-            }
-            if let Some(j) = names.iter().position(|n| *n == m.name) {
-                return Err(self.item_error(
-                    format!("material {i}"),
-                    &path,
-                    format!("name {:?} is already material {j}", m.name),
-                ));
-            }
-            names.push(m.name.clone());
-        }
-        Ok(names)
+        self.origin.material_names(&self.material)
     }
 
-    /// The index of a material named by `item` (the first when `name` is `None`).
-    pub(super) fn material_index(
-        &self,
-        names: &[String],
-        name: Option<&str>,
-        item: &str,
-        path: &[Seg],
-    ) -> Result<u16, SceneFileError> {
-        let Some(name) = name else { return Ok(0) };
-        match names.iter().position(|n| n == name) {
-            // At most MAX_MATERIALS names (checked in `materials`).
-            Some(i) => Ok(i as u16),
-            None => Err(self.item_error(
-                item,
-                path,
-                format!(
-                    "material {name:?} is not declared (declared: {})",
-                    names
-                        .iter()
-                        .map(|n| format!("{n:?}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            )),
-        }
-    }
-
+    /// The response a table names, with its `restitution`: required by `"inelastic"` (in
+    /// `[0, 1]`), refused with any other response.
     fn response(
         &self,
-        kind: ResponseKind,
+        name: &str,
         restitution: Option<f64>,
         item: &str,
         path: &[Seg],
     ) -> Result<Response, SceneFileError> {
-        let mut at: Vec<Seg> = path.to_vec();
-        at.push(Key("restitution"));
-        match (kind, restitution) {
-            (ResponseKind::Inelastic, Some(e)) if (0.0..=1.0).contains(&e) => {
-                Ok(Response::Inelastic { restitution: e })
-            }
-            (ResponseKind::Inelastic, Some(e)) => {
-                Err(self.item_error(item, &at, format!("restitution = {e:?} must be in [0, 1]")))
-            }
-            (ResponseKind::Inelastic, None) => Err(self.item_error(
+        let field = |key| {
+            let mut at = path.to_vec();
+            at.push(Key(key));
+            at
+        };
+        // NaN when absent: then "inelastic" is refused below, and the others ignore it.
+        let Some(response) = Response::named(name, restitution.unwrap_or(f64::NAN)) else {
+            // Refused when parsed (`response_name`); reached by tables built in code only.
+            let names = Response::NAMES.map(|n| format!("{n:?}")).join(", ");
+            return Err(self.item_error(
+                item,
+                &field("response"),
+                format!("response = {name:?} is not one of {names}"),
+            ));
+        };
+        match (response, restitution) {
+            (Response::Inelastic { .. }, Some(e)) if (0.0..=1.0).contains(&e) => Ok(response),
+            (Response::Inelastic { .. }, Some(e)) => Err(self.item_error(
+                item,
+                &field("restitution"),
+                format!("restitution = {e:?} must be in [0, 1]"),
+            )),
+            (Response::Inelastic { .. }, None) => Err(self.item_error(
                 item,
                 path,
                 "response = \"inelastic\" needs `restitution` (in [0, 1])".into(),
             )),
-            (k, Some(_)) => Err(self.item_error(
+            (other, Some(_)) => Err(self.item_error(
                 item,
-                &at,
+                &field("restitution"),
                 format!(
                     "restitution applies only to response = \"inelastic\", not {:?}",
-                    k.name()
+                    other.name()
                 ),
             )),
-            (ResponseKind::None, None) => Ok(Response::ReportOnly),
-            (ResponseKind::Elastic, None) => Ok(Response::Elastic),
-            (ResponseKind::Sticky, None) => Ok(Response::Sticky),
+            (other, None) => Ok(other),
         }
     }
 
     pub(super) fn effects(&self, names: &[String]) -> Result<Effects, SceneFileError> {
         let e = &self.effects;
-        let response = self.response(e.response, e.restitution, "effects", &[Key("effects")])?;
+        let response = self.response(&e.response, e.restitution, "effects", &[Key("effects")])?;
         if !(e.tc.is_finite() && e.tc >= 0.0) {
             return Err(self.item_error(
                 "effects",
@@ -146,9 +104,13 @@ impl SceneFile {
             let item = format!("effects.pair {i}");
             let path = [Key("effects"), Key("pair"), At(i)];
             let at = |k| [Key("effects"), Key("pair"), At(i), Key(k)];
-            let a = self.material_index(names, Some(&p.a), &item, &at("a"))?;
-            let b = self.material_index(names, Some(&p.b), &item, &at("b"))?;
-            let r = self.response(p.response, p.restitution, &item, &path)?;
+            let a = self
+                .origin
+                .material_index(names, Some(&p.a), &item, &at("a"))?;
+            let b = self
+                .origin
+                .material_index(names, Some(&p.b), &item, &at("b"))?;
+            let r = self.response(&p.response, p.restitution, &item, &path)?;
             if r == Response::ReportOnly {
                 return Err(self.item_error(
                     item,
@@ -268,48 +230,12 @@ impl SceneFile {
     }
 
     pub(super) fn shapes(&self, world: &mut World) -> Result<(), SceneFileError> {
-        let f32s = |v: [f64; 3]| v.map(|x| x as f32);
-        for (i, p) in self.plane.iter().enumerate() {
-            let item = format!("plane {i}");
-            let path = |k| [Key("plane"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                p.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Plane::new(f32s(p.point), f32s(p.normal))
-                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.statics.push(shape, material);
-        }
-        for (i, c) in self.cylinder.iter().enumerate() {
-            let item = format!("cylinder {i}");
-            let path = |k| [Key("cylinder"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                c.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Cylinder::new(f32s(c.p1), f32s(c.p2), c.radius as f32).map_err(|e| {
-                let field = if e.field == "axis" { "p2" } else { e.field };
-                self.shape_error(&item, &path(field), e)
-            })?;
-            world.statics.push(shape, material);
-        }
-        for (i, c) in self.container.iter().enumerate() {
-            let item = format!("container {i}");
-            let path = |k| [Key("container"), At(i), Key(k)];
-            let material = self.material_index(
-                &world.materials,
-                c.material.as_deref(),
-                &item,
-                &path("material"),
-            )?;
-            let shape = Container::new(f32s(c.centre), c.radius as f32)
-                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
-            world.statics.push(shape, material);
-        }
+        world.statics = self.origin.static_shapes(
+            &world.materials,
+            &self.plane,
+            &self.cylinder,
+            &self.container,
+        )?;
         Ok(())
     }
 
@@ -322,7 +248,8 @@ impl SceneFile {
         let item = format!("sphere {i}");
         let path = |k| [Key("sphere"), At(i), Key(k)];
         let material =
-            self.material_index(names, s.material.as_deref(), &item, &path("material"))?;
+            self.origin
+                .material_index(names, s.material.as_deref(), &item, &path("material"))?;
         let bad = |field: &'static str, problem: String| {
             Err(self.item_error(&item, &path(field), format!("{field} {problem}")))
         };
@@ -352,5 +279,117 @@ impl SceneFile {
             mass: s.mass,
             material,
         })
+    }
+}
+
+/// The checks a static-shape group needs alone (a shapes file) as in a whole scene: material
+/// names and the shapes, each error located in the text.
+impl Origin {
+    /// The names `[[material]]` declares, in index order (`"default"` when none is).
+    pub(super) fn material_names(
+        &self,
+        tables: &[MaterialTable],
+    ) -> Result<Vec<String>, SceneFileError> {
+        if tables.is_empty() {
+            return Ok(vec!["default".into()]);
+        }
+        if tables.len() > crate::sim::MAX_MATERIALS {
+            let max = crate::sim::MAX_MATERIALS;
+            return Err(self.item_error(
+                format!("material {max}"),
+                &[Key("material"), At(max)],
+                format!("at most {max} materials"),
+            ));
+        }
+        let mut names: Vec<String> = Vec::with_capacity(tables.len());
+        for (i, m) in tables.iter().enumerate() {
+            let path = [Key("material"), At(i), Key("name")];
+            if m.name.trim().is_empty() {
+                return Err(self.item_error(
+                    format!("material {i}"),
+                    &path,
+                    "name is empty".into(),
+                ));
+            }
+            if let Some(j) = names.iter().position(|n| *n == m.name) {
+                return Err(self.item_error(
+                    format!("material {i}"),
+                    &path,
+                    format!("name {:?} is already material {j}", m.name),
+                ));
+            }
+            names.push(m.name.clone());
+        }
+        Ok(names)
+    }
+
+    /// The index of a material named by `item` (the first when `name` is `None`).
+    pub(super) fn material_index(
+        &self,
+        names: &[String],
+        name: Option<&str>,
+        item: &str,
+        path: &[Seg],
+    ) -> Result<u16, SceneFileError> {
+        let Some(name) = name else { return Ok(0) };
+        match names.iter().position(|n| n == name) {
+            // At most MAX_MATERIALS names (checked in `material_names`).
+            Some(i) => Ok(i as u16),
+            None => Err(self.item_error(
+                item,
+                path,
+                format!(
+                    "material {name:?} is not declared (declared: {})",
+                    names
+                        .iter()
+                        .map(|n| format!("{n:?}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )),
+        }
+    }
+
+    /// The static shapes of the `[[plane]]`, `[[cylinder]]` and `[[container]]` tables, each
+    /// with its material's index among `names`.
+    pub(super) fn static_shapes(
+        &self,
+        names: &[String],
+        planes: &[PlaneTable],
+        cylinders: &[CylinderTable],
+        containers: &[ContainerTable],
+    ) -> Result<Statics<u16>, SceneFileError> {
+        let mut out = Statics::new();
+        let f32s = |v: [f64; 3]| v.map(|x| x as f32);
+        for (i, p) in planes.iter().enumerate() {
+            let item = format!("plane {i}");
+            let path = |k| [Key("plane"), At(i), Key(k)];
+            let material =
+                self.material_index(names, p.material.as_deref(), &item, &path("material"))?;
+            let shape = Plane::new(f32s(p.point), f32s(p.normal))
+                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
+            out.push(shape, material);
+        }
+        for (i, c) in cylinders.iter().enumerate() {
+            let item = format!("cylinder {i}");
+            let path = |k| [Key("cylinder"), At(i), Key(k)];
+            let material =
+                self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            let shape = Cylinder::new(f32s(c.p1), f32s(c.p2), c.radius as f32).map_err(|e| {
+                let field = if e.field == "axis" { "p2" } else { e.field };
+                self.shape_error(&item, &path(field), e)
+            })?;
+            out.push(shape, material);
+        }
+        for (i, c) in containers.iter().enumerate() {
+            let item = format!("container {i}");
+            let path = |k| [Key("container"), At(i), Key(k)];
+            let material =
+                self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            let shape = Container::new(f32s(c.centre), c.radius as f32)
+                .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
+            out.push(shape, material);
+        }
+        Ok(out)
     }
 }

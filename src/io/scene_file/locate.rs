@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use super::schema::Origin;
 use super::{SceneFile, SceneFileError};
 use crate::ShapeKind;
 use crate::error::ShapeError;
@@ -16,11 +17,11 @@ pub(super) enum Seg {
 }
 pub(super) use Seg::{At, Key};
 
-impl SceneFile {
+impl Origin {
     /// The line of the value at `path` in the TOML text (the key's line for a field, the
     /// header's for an array element); the nearest enclosing item's when the field is absent.
     pub(super) fn line(&self, path: &[Seg]) -> Option<usize> {
-        let text = self.origin.toml.as_deref()?;
+        let text = self.toml.as_deref()?;
         let root = toml::de::DeTable::parse(text).ok()?;
         let mut offset = None;
         let mut table = Some(root.get_ref());
@@ -48,6 +49,7 @@ impl SceneFile {
         Some(text.get(..offset)?.matches('\n').count() + 1)
     }
 
+    /// An item that does not make sense, at the line of `path`.
     pub(super) fn item_error(
         &self,
         item: impl Into<String>,
@@ -55,13 +57,14 @@ impl SceneFile {
         problem: String,
     ) -> SceneFileError {
         SceneFileError::Item {
-            file: self.origin.file.clone(),
+            file: self.file.clone(),
             line: self.line(path),
             item: item.into(),
             problem,
         }
     }
 
+    /// An item the simulation refused, at the line of `path`.
     pub(super) fn sim_error(
         &self,
         item: impl Into<String>,
@@ -69,13 +72,14 @@ impl SceneFile {
         source: SimError,
     ) -> SceneFileError {
         SceneFileError::Sim {
-            file: self.origin.file.clone(),
+            file: self.file.clone(),
             line: self.line(path),
             item: item.into(),
             source,
         }
     }
 
+    /// An item a shape's constructor refused, at the line of `path`.
     pub(super) fn shape_error(
         &self,
         item: impl Into<String>,
@@ -83,11 +87,33 @@ impl SceneFile {
         source: ShapeError,
     ) -> SceneFileError {
         SceneFileError::Shape {
-            file: self.origin.file.clone(),
+            file: self.file.clone(),
             line: self.line(path),
             item: item.into(),
             source,
         }
+    }
+}
+
+impl SceneFile {
+    /// [`Origin::item_error`] in this file.
+    pub(super) fn item_error(
+        &self,
+        item: impl Into<String>,
+        path: &[Seg],
+        problem: String,
+    ) -> SceneFileError {
+        self.origin.item_error(item, path, problem)
+    }
+
+    /// [`Origin::sim_error`] in this file.
+    pub(super) fn sim_error(
+        &self,
+        item: impl Into<String>,
+        path: &[Seg],
+        source: SimError,
+    ) -> SceneFileError {
+        self.origin.sim_error(item, path, source)
     }
 
     /// The item a sphere of the world came from, and its path in the file.

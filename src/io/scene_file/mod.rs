@@ -42,7 +42,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::Statics;
 use crate::sim::{Boundary, Simulation, World};
+
 use glam::DVec3;
 
 mod assemble;
@@ -56,15 +58,94 @@ mod tests;
 pub use error::SceneFileError;
 pub use schema::{
     BoundaryKind, BoundaryTable, ContainerTable, CylinderTable, EffectsTable, GenerateKind,
-    GenerateTable, MaterialTable, PairTable, PlaneTable, ResponseKind, RunTable, SceneFile,
-    SphereTable,
+    GenerateTable, MaterialTable, PairTable, PlaneTable, RunTable, SceneFile, SphereTable,
 };
 
 use locate::Seg::Key;
-use schema::Origin;
+use schema::{Origin, ShapesFile};
 
 /// The most spheres a scene file may ask for (the generators' own limit).
 pub const MAX_SPHERES: usize = 1 << 28;
+
+/// The text format of a scene file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// TOML, for people: errors name the line of the item.
+    Toml,
+    /// JSON, for programs.
+    Json,
+}
+
+impl Format {
+    /// JSON if the file's name ends in `.json` (any case), TOML otherwise.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::Format;
+    /// use std::path::Path;
+    /// assert_eq!(Format::of(Path::new("jet.JSON")), Format::Json);
+    /// assert_eq!(Format::of(Path::new("jet.toml")), Format::Toml);
+    /// ```
+    pub fn of(path: &Path) -> Self {
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            Format::Json
+        } else {
+            Format::Toml
+        }
+    }
+}
+
+/// Parses `text` into the tables `T`, and where it came from (for TOML, the text itself, to
+/// locate errors by line).
+fn parse<T: serde::de::DeserializeOwned>(
+    text: &str,
+    format: Format,
+    file: Option<PathBuf>,
+) -> Result<(T, Origin), SceneFileError> {
+    let parsed = match format {
+        Format::Toml => toml::from_str(text).map_err(|e| e.to_string()),
+        Format::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
+    };
+    let tables = parsed.map_err(|message| SceneFileError::Syntax {
+        file: file.clone(),
+        message,
+    })?;
+    let toml = (format == Format::Toml).then(|| text.into());
+    Ok((tables, Origin { file, toml }))
+}
+
+/// The static shapes of a scene-file text alone: its `[[plane]]`, `[[cylinder]]` and
+/// `[[container]]` tables (each kind in file order), and the `[[material]]` tables their
+/// `material` fields name. Any other table is refused: a whole scene is a [`SceneFile`].
+/// Every error names the item, the field and (TOML) the line, as a scene's do.
+///
+/// # Errors
+/// [`SceneFileError::Syntax`] for text that does not parse or fit the tables (an unknown
+/// table or field), [`SceneFileError::Item`] or [`SceneFileError::Shape`] for an item that
+/// does not make sense (an undeclared material, a degenerate shape).
+///
+/// ```
+/// use spheresweep::io::scene_file::{Format, read_statics};
+/// let text = "[[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 2]\n\n\
+///     [[container]]\ncentre = [0, 0, 0]\nradius = 20\n";
+/// let statics = read_statics(text, Format::Toml)?;
+/// assert_eq!(statics.len(), 2);
+/// assert_eq!(statics.of::<spheresweep::Plane>().shapes()[0].normal().z, 1.0); // normalised
+/// let err = read_statics("[[cylinder]]\np1 = [1, 1, 1]\np2 = [1, 1, 1]\nradius = 1\n", Format::Toml);
+/// assert_eq!(err.unwrap_err().to_string(), "line 3: cylinder 0: cylinder axis has zero length (degenerate direction)");
+/// let err = read_statics("[run]\nt_end = 1\n", Format::Toml).unwrap_err(); // not a static shape
+/// assert!(err.to_string().contains("unknown field `run`"));
+/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+/// ```
+pub fn read_statics(text: &str, format: Format) -> Result<Statics, SceneFileError> {
+    let (tables, origin): (ShapesFile, Origin) = parse(text, format, None)?;
+    let names = origin.material_names(&tables.material)?;
+    let shapes =
+        origin.static_shapes(&names, &tables.plane, &tables.cylinder, &tables.container)?;
+    Ok(shapes.map(|_, _| ()))
+}
 
 /// How a run goes, from `[run]`.
 ///
@@ -98,7 +179,7 @@ impl SceneFile {
     /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
     /// ```
     pub fn from_toml_str(text: &str) -> Result<Self, SceneFileError> {
-        Self::toml(text, None)
+        Self::parse(text, Format::Toml, None)
     }
 
     /// Parses a JSON scene (the same structure: `{"run": {"t_end": 1}, "sphere": [...]}`).
@@ -114,7 +195,7 @@ impl SceneFile {
     /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
     /// ```
     pub fn from_json_str(text: &str) -> Result<Self, SceneFileError> {
-        Self::json(text, None)
+        Self::parse(text, Format::Json, None)
     }
 
     /// Reads a scene file: JSON if its name ends in `.json`, TOML otherwise. Every message
@@ -141,35 +222,28 @@ impl SceneFile {
             path: path.to_path_buf(),
             source,
         })?;
-        let file = Some(path.to_path_buf());
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        {
-            Self::json(&text, file)
-        } else {
-            Self::toml(&text, file)
-        }
+        Self::parse(&text, Format::of(path), Some(path.to_path_buf()))
     }
 
-    fn toml(text: &str, file: Option<PathBuf>) -> Result<Self, SceneFileError> {
-        let mut scene: Self = toml::from_str(text).map_err(|e| SceneFileError::Syntax {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        scene.origin = Origin {
-            file,
-            toml: Some(text.into()),
-        };
-        Ok(scene)
+    /// Parses a scene in either format (as [`from_toml_str`](Self::from_toml_str) or
+    /// [`from_json_str`](Self::from_json_str)).
+    ///
+    /// # Errors
+    /// [`SceneFileError::Syntax`] naming the line, column and key.
+    ///
+    /// ```
+    /// use spheresweep::io::scene_file::{Format, SceneFile};
+    /// let scene = SceneFile::from_text(r#"{"run": {"t_end": 3}}"#, Format::Json)?;
+    /// assert_eq!(scene.run.t_end, 3.0);
+    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
+    /// ```
+    pub fn from_text(text: &str, format: Format) -> Result<Self, SceneFileError> {
+        Self::parse(text, format, None)
     }
 
-    fn json(text: &str, file: Option<PathBuf>) -> Result<Self, SceneFileError> {
-        let mut scene: Self = serde_json::from_str(text).map_err(|e| SceneFileError::Syntax {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        scene.origin = Origin { file, toml: None };
+    fn parse(text: &str, format: Format, file: Option<PathBuf>) -> Result<Self, SceneFileError> {
+        let (mut scene, origin): (Self, Origin) = parse(text, format, file)?;
+        scene.origin = origin;
         Ok(scene)
     }
 

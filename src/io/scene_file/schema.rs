@@ -4,7 +4,10 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use serde::Deserialize;
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
+
+use crate::sim::Response;
 
 /// A whole scene file, as parsed (nothing checked beyond the types yet; [`SceneFile::build`]
 /// checks the rest).
@@ -48,6 +51,22 @@ pub struct SceneFile {
     pub container: Vec<ContainerTable>,
     #[serde(skip)]
     pub(super) origin: Origin,
+}
+
+/// The static shapes of a scene and the materials they name, alone: the `[[material]]`,
+/// `[[plane]]`, `[[cylinder]]` and `[[container]]` tables of [`SceneFile`], as
+/// [`read_statics`](super::read_statics) parses them (any other table is refused).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ShapesFile {
+    #[serde(default)]
+    pub(super) material: Vec<MaterialTable>,
+    #[serde(default)]
+    pub(super) plane: Vec<PlaneTable>,
+    #[serde(default)]
+    pub(super) cylinder: Vec<CylinderTable>,
+    #[serde(default)]
+    pub(super) container: Vec<ContainerTable>,
 }
 
 /// Where a scene came from, for messages: its path and, for TOML, its text (to find lines).
@@ -143,57 +162,43 @@ pub struct MaterialTable {
     pub name: String,
 }
 
-/// A response by name.
-///
-/// ```
-/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
-/// let scene = SceneFile::from_toml_str("[run]\nt_end = 1\n[effects]\nresponse = \"sticky\"\n")?;
-/// assert_eq!(scene.effects.response, ResponseKind::Sticky);
-/// assert_eq!(ResponseKind::default(), ResponseKind::Elastic);
-/// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ResponseKind {
-    /// Contacts are reported only; spheres pass through each other.
-    None,
-    /// Elastic collisions.
-    #[default]
-    Elastic,
-    /// Inelastic collisions with a coefficient of restitution.
-    Inelastic,
-    /// Spheres that meet join into clusters.
-    Sticky,
+/// A response's name as the file writes it, refused while parsing (naming the line) unless it
+/// is one of [`Response::NAMES`]; assembly turns it into a [`Response`] with
+/// [`Response::named`].
+fn response_name<'de, D: Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let name = String::deserialize(d)?;
+    match Response::named(&name, f64::NAN) {
+        Some(_) => Ok(name),
+        None => Err(D::Error::unknown_variant(&name, &Response::NAMES)),
+    }
 }
 
-impl ResponseKind {
-    pub(super) fn name(self) -> &'static str {
-        match self {
-            ResponseKind::None => "none",
-            ResponseKind::Elastic => "elastic",
-            ResponseKind::Inelastic => "inelastic",
-            ResponseKind::Sticky => "sticky",
-        }
-    }
+fn elastic() -> String {
+    Response::Elastic.name().into()
 }
 
 /// `[effects]`.
 ///
 /// ```
-/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
+/// use spheresweep::io::scene_file::{EffectsTable, SceneFile};
 /// let text = "[run]\nt_end = 1\n[effects]\nresponse = \"inelastic\"\nrestitution = 0.8\ntc = 1e-4\n";
 /// let effects = SceneFile::from_toml_str(text)?.effects;
-/// assert_eq!((effects.response, effects.restitution), (ResponseKind::Inelastic, Some(0.8)));
+/// assert_eq!((effects.response.as_str(), effects.restitution), ("inelastic", Some(0.8)));
 /// assert_eq!(effects.tc, 1e-4);
 /// assert!(!effects.record_events && effects.pair.is_empty());
+/// assert_eq!(EffectsTable::default().response, "elastic"); // without [effects]
+/// // A name that is not a response is refused as the file is parsed, naming its line.
+/// let err = SceneFile::from_toml_str("[run]\nt_end = 1\n[effects]\nresponse = \"bouncy\"\n").unwrap_err();
+/// assert!(err.to_string().contains("line 4") && err.to_string().contains("unknown variant `bouncy`"));
 /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
 /// ```
-#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EffectsTable {
-    /// Response of every pair of materials not listed in `pair`.
-    #[serde(default)]
-    pub response: ResponseKind,
+    /// Response of every pair of materials not listed in `pair`: one of [`Response::NAMES`]
+    /// (default `"elastic"`).
+    #[serde(default = "elastic", deserialize_with = "response_name")]
+    pub response: String,
     /// Coefficient of restitution for `inelastic`, in `[0, 1]`.
     #[serde(default)]
     pub restitution: Option<f64>,
@@ -211,10 +216,24 @@ pub struct EffectsTable {
     pub pair: Vec<PairTable>,
 }
 
+impl Default for EffectsTable {
+    /// No `[effects]` table: elastic collisions, nothing recorded.
+    fn default() -> Self {
+        Self {
+            response: elastic(),
+            restitution: None,
+            tc: 0.0,
+            geometry: false,
+            record_events: false,
+            pair: Vec::new(),
+        }
+    }
+}
+
 /// `[[effects.pair]]`.
 ///
 /// ```
-/// use spheresweep::io::scene_file::{ResponseKind, SceneFile};
+/// use spheresweep::io::scene_file::SceneFile;
 /// let text = r#"
 ///     [run]
 ///     t_end = 1
@@ -229,7 +248,7 @@ pub struct EffectsTable {
 /// "#;
 /// let pair = &SceneFile::from_toml_str(text)?.effects.pair[0];
 /// assert_eq!((pair.a.as_str(), pair.b.as_str()), ("glue", "glue"));
-/// assert_eq!(pair.response, ResponseKind::Sticky);
+/// assert_eq!(pair.response, "sticky");
 /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -239,8 +258,9 @@ pub struct PairTable {
     pub a: String,
     /// The other's (may equal `a`).
     pub b: String,
-    /// What their collisions do (not `none`).
-    pub response: ResponseKind,
+    /// What their collisions do: one of [`Response::NAMES`] but `"none"`.
+    #[serde(deserialize_with = "response_name")]
+    pub response: String,
     /// Coefficient of restitution for `inelastic`, in `[0, 1]`.
     #[serde(default)]
     pub restitution: Option<f64>,
