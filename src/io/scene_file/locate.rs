@@ -5,7 +5,6 @@ use glam::DVec3;
 
 use super::schema::Origin;
 use super::{SceneFile, SceneFileError};
-use crate::ShapeKind;
 use crate::error::ShapeError;
 use crate::sim::SimError;
 
@@ -174,12 +173,7 @@ impl SceneFile {
                 ..
             } => {
                 let (item, path) = self.sphere_item(*sphere);
-                let key = match shape {
-                    ShapeKind::Plane => "plane",
-                    ShapeKind::Cylinder => "cylinder",
-                    _ => "container",
-                };
-                self.sim_error(format!("{item} and {key} {index}"), &path, err)
+                self.sim_error(format!("{item} and {shape} {index}"), &path, err)
             }
             SimError::Box { .. } => self.sim_error("boundary", &[Key("boundary")], err),
             _ => self.sim_error("scene", &[], err),

@@ -352,14 +352,13 @@ impl SceneFile {
     }
 }
 
-// Clearance from each static kind, one function per kind (issue 25: to be replaced by the
-// kernels' per-kind gap functions, `StaticShape::gap`, when they land; do not copy these).
-
 /// Spheres already placed, hashed on a grid, to keep a random block clear of them: a point
 /// query ("is a sphere of this radius at `p` clear of all of them?") over an unbounded region.
-/// `broad::Grid` answers pairs of swept f32 boxes, not points; `sim::cells::Cells` would fit
-/// (bounded and clamped, as `generate::random_spheres` uses it for a block's own spheres) but
-/// is private to `sim` (issue 25: the lead may move this onto it).
+/// Neither of the library's other grids fits: `broad::Grid` answers pairs of swept f32 boxes,
+/// not points; `sim::cells::Cells` is a dense box with one slot count for every cell, so listed
+/// spheres clustered far apart (its box spans both clusters, most cells empty, a few holding
+/// thousands) would cost cells × the fullest cell's count in memory. A hash of the occupied
+/// cells costs memory in the spheres alone.
 struct Occupied<'a> {
     spheres: &'a [SphereState],
     cell: f64,

@@ -139,16 +139,7 @@ pub fn event_bound(geometry: bool) -> u64 {
         events::write(&mut out, &[e], geometry).expect("writes to memory");
         out.len() as u64
     };
-    [
-        ShapeKind::Sphere,
-        ShapeKind::Plane,
-        ShapeKind::Cylinder,
-        ShapeKind::Container,
-    ]
-    .map(row)
-    .into_iter()
-    .max()
-    .unwrap_or(0)
+    ShapeKind::ALL.map(row).into_iter().max().unwrap_or(0)
 }
 
 #[cfg(test)]
