@@ -1,5 +1,5 @@
 //! The broad phase: a uniform grid over the spheres' swept boxes that reports every candidate
-//! sphere pair exactly once, in cell order (`grid.rs` has the algorithm and why its stencil is
+//! sphere pair exactly once, in cell order (`grid/mod.rs` has the algorithm and why its stencil is
 //! correct). Planes, cylinders and containers stay out of the grid: every sphere meets them in
 //! the static-shape kernels directly.
 
