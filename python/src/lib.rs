@@ -14,6 +14,7 @@ mod scene;
 mod shapes;
 mod sim;
 mod spheres;
+mod world;
 mod xyz;
 
 use pyo3::prelude::*;
