@@ -203,15 +203,17 @@ pub(crate) fn listed_hits<G: Gather>(
             let gather = |k: usize| store.gather::<L>(group.iter().map(move |p| p[k] as usize));
             let reload = || [gather(0), gather(1)];
             let t = sphere_pair::<L, S>(&gather(0), &gather(1), t_max, reload);
-            if !t.lt(none).any() {
+            // Padding lanes (NaN spheres) never hit.
+            let mut touching = t.lt(none).bits();
+            if touching == 0 {
                 continue;
             }
             let mut times = [0.0f32; 8];
             t.store(&mut times[..L::WIDTH]);
-            for (&pair, &time) in group.iter().zip(&times) {
-                if time < f32::INFINITY {
-                    hit(pair, time);
-                }
+            while touching != 0 {
+                let k = touching.trailing_zeros() as usize;
+                hit(group[k], times[k]);
+                touching &= touching - 1;
             }
         }
     }

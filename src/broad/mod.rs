@@ -115,6 +115,24 @@ impl Grid {
         self.inner.visit_pairs(visit);
     }
 
+    /// [`visit_pairs`](Self::visit_pairs) on the calling thread, to a visitor that keeps
+    /// state of its own without locks.
+    pub fn visit_pairs_mut(&self, visit: &mut dyn FnMut(&[[u32; 2]])) {
+        self.inner.visit_pairs_mut(visit);
+    }
+
+    /// Whether the last build ran on rayon: from 16 384 spheres when the current pool has
+    /// more than one thread.
+    pub fn parallel(&self) -> bool {
+        self.inner.parallel()
+    }
+
+    /// The spheres of the last [`build_cells`](Self::build_cells) as records in
+    /// [`order`](Self::order), copied by the same gather that sorts the boxes.
+    pub(crate) fn sorted_spheres(&self) -> &crate::store::PackedSpheres {
+        self.inner.sorted_spheres()
+    }
+
     /// Sphere indices in cell order.
     ///
     /// ```
@@ -334,6 +352,60 @@ mod tests {
         pairs
     }
 
+    /// The pairs [`Grid::visit_pairs`] (on `threads` threads) or [`Grid::visit_pairs_mut`]
+    /// hands on, as sorted index pairs; and checks the sorted records against the store.
+    fn visited_pairs(store: &SphereStore, t_max: f32, options: GridOptions) -> Vec<[u32; 2]> {
+        let mut grid = Grid::new();
+        let as_indices = |grid: &Grid, pairs: &[[u32; 2]]| -> Vec<[u32; 2]> {
+            let o = grid.order();
+            let mut v: Vec<_> = pairs
+                .iter()
+                .map(|&[p, q]| {
+                    let (i, j) = (o[p as usize], o[q as usize]);
+                    [i.min(j), i.max(j)]
+                })
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        let mut runs = Vec::new();
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                // Twice: the second build finds the previous order (the coherent path when
+                // the store is in grid order, which a fresh grid after `reset_order` forces).
+                for round in 0..2 {
+                    if round == 1 {
+                        grid.reset_order();
+                    }
+                    grid.build_cells(store, t_max, options);
+                    let sorted = grid.sorted_spheres();
+                    for (p, &i) in grid.order().iter().enumerate() {
+                        let s = store.get(i as usize).unwrap();
+                        let [cx, cy, cz, vx, vy, vz, r, _] = sorted.0[p].0;
+                        assert_eq!(
+                            (s.centre().to_array(), s.velocity().to_array(), s.radius()),
+                            ([cx, cy, cz], [vx, vy, vz], r)
+                        );
+                    }
+                    let seen = std::sync::Mutex::new(Vec::new());
+                    grid.visit_pairs(&|p| seen.lock().unwrap().extend_from_slice(p));
+                    runs.push(as_indices(&grid, &seen.into_inner().unwrap()));
+                    let mut mine = Vec::new();
+                    grid.visit_pairs_mut(&mut |p| mine.extend_from_slice(p));
+                    runs.push(as_indices(&grid, &mine));
+                }
+            });
+        }
+        for r in &runs[1..] {
+            assert_eq!(r, &runs[0]);
+        }
+        runs.swap_remove(0)
+    }
+
     #[test]
     fn grid_pairs_are_the_overlapping_boxes_exactly_once() {
         let mut rng = Rng::new(1);
@@ -358,6 +430,10 @@ mod tests {
             for t_max in [0.0, 0.5, 10.0] {
                 let expected = brute(&store, t_max);
                 assert_eq!(grid_pairs(&store, t_max, GridOptions::default()), expected);
+                assert_eq!(
+                    visited_pairs(&store, t_max, GridOptions::default()),
+                    expected
+                );
                 // A forced small cell puts most spheres on the oversize list; each layout.
                 for layout in [Layout::Dense, Layout::Sparse] {
                     let forced = GridOptions {
@@ -377,5 +453,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn visited_pairs_are_the_listed_pairs_on_rayon() {
+        // Above the parallel threshold, swept boxes over many cells: many buffers a worker.
+        let mut rng = Rng::new(2);
+        let store: SphereStore = (0..20_000)
+            .map(|_| {
+                let c = rng.cube(40.0).as_vec3();
+                let v = (rng.cube(4.0)).as_vec3();
+                Sphere::new(c.into(), v.into(), 0.3, 1.0).unwrap()
+            })
+            .collect();
+        let listed = grid_pairs(&store, 1.0, GridOptions::default());
+        assert!(listed.len() > 50_000, "{} pairs", listed.len());
+        assert_eq!(visited_pairs(&store, 1.0, GridOptions::default()), listed);
     }
 }

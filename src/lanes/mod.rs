@@ -55,6 +55,8 @@ pub trait Lanes:
     fn eq(self, o: Self) -> Self;
     /// Whether any lane of the mask is set.
     fn any(self) -> bool;
+    /// The mask's lanes as bits, lane `k` in bit `k`.
+    fn bits(self) -> u32;
     /// The lanes widened exactly to f64, four at a time (`[lo, hi]`; an `f64x4` gives itself
     /// twice).
     fn halves(self) -> [f64x4; 2];
@@ -139,6 +141,10 @@ macro_rules! impl_lanes {
             #[inline(always)]
             fn any(self) -> bool {
                 <$t>::any(self)
+            }
+            #[inline(always)]
+            fn bits(self) -> u32 {
+                self.to_bitmask() as u32
             }
             #[inline(always)]
             fn halves(self) -> [f64x4; 2] {

@@ -110,22 +110,38 @@ impl std::fmt::Debug for CompactContact {
     }
 }
 
-/// Slots that threads offer contacts to: each keeps the least it was offered.
+/// Slots that threads offer contacts to: each keeps the least it was offered. One thread
+/// writes them as plain values ([`plain`](Slots::plain)), several through atomics
+/// ([`offer`](Slots::offer)); a slot holds the same bits either way.
 #[derive(Debug, Default)]
-pub(crate) struct Slots(Vec<AtomicU64>);
+pub(crate) struct Slots {
+    shared: Vec<AtomicU64>,
+    plain: Vec<CompactContact>,
+    /// Which of the two the last [`reset`](Slots::reset) and writes used.
+    is_plain: bool,
+}
 
 impl Slots {
-    /// `n` empty slots (the buffer is kept between calls).
+    /// `n` empty shared slots (the buffer is kept between calls).
     pub(crate) fn reset(&mut self, n: usize) {
-        self.0.clear();
-        self.0.resize_with(n, || AtomicU64::new(u64::MAX));
+        self.is_plain = false;
+        self.shared.clear();
+        self.shared.resize_with(n, || AtomicU64::new(u64::MAX));
+    }
+
+    /// `n` empty slots as plain values, for one thread.
+    pub(crate) fn plain(&mut self, n: usize) -> &mut [CompactContact] {
+        self.is_plain = true;
+        self.plain.clear();
+        self.plain.resize(n, CompactContact::NONE);
+        &mut self.plain
     }
 
     /// Keeps `c` in slot `i` if it is less than what the slot holds. A plain load first: most
     /// offers after the first lose and need no locked instruction.
     #[inline(always)]
     pub(crate) fn offer(&self, i: usize, c: CompactContact) {
-        let slot = &self.0[i];
+        let slot = &self.shared[i];
         if c.0 < slot.load(Ordering::Relaxed) {
             slot.fetch_min(c.0, Ordering::Relaxed);
         }
@@ -134,12 +150,16 @@ impl Slots {
     /// What slot `i` holds.
     #[inline(always)]
     pub(crate) fn get(&mut self, i: usize) -> CompactContact {
-        CompactContact(*self.0[i].get_mut())
+        if self.is_plain {
+            self.plain[i]
+        } else {
+            CompactContact(*self.shared[i].get_mut())
+        }
     }
 
     /// Heap bytes held.
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.0.capacity() * 8
+        (self.shared.capacity() + self.plain.capacity()) * 8
     }
 }
 
@@ -167,7 +187,10 @@ mod tests {
             }
         }
         let plane = Body::new(ShapeKind::Plane, 1);
-        assert_eq!(CompactContact::key(-0.0, plane), CompactContact::key(0.0, plane));
+        assert_eq!(
+            CompactContact::key(-0.0, plane),
+            CompactContact::key(0.0, plane)
+        );
         for kind in ShapeKind::ALL {
             let b = Body::new(kind, 12345);
             assert_eq!(CompactContact::new(0.5, b).get(), Some((0.5, b)));

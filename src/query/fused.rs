@@ -17,13 +17,10 @@ use crate::shape::ShapeKind;
 use crate::store::SphereStore;
 
 impl SceneQuery {
-    /// Stages 1–2: the cells for the window and the spheres copied into cell order.
+    /// Stages 1–2: the cells for the window and the spheres copied into cell order (by the
+    /// grid's own gather, which reads each sphere's record once for its box and its copy).
     fn cells_and_records(&mut self, store: &SphereStore, t_max: f32) {
         self.grid.build_cells(store, t_max, self.options);
-        // Packed records first (one pass in order), then gathered into cell order: one cache
-        // line per scattered sphere instead of the blocks' seven.
-        self.packed.pack(store);
-        self.sorted.permute_from(&self.packed, self.grid.order());
     }
 
     /// Each sphere's earliest contact with another sphere in the (finite) window, offered to
@@ -37,8 +34,23 @@ impl SceneQuery {
     ) -> usize {
         let n = store.len();
         self.cells_and_records(store, options.t_max());
+        let candidates = if self.grid.parallel() {
+            self.offer_pairs_in_parallel(n, options)
+        } else {
+            self.offer_pairs_in_order(n, options)
+        };
+        let order = self.grid.order();
+        for p in 0..n {
+            let i = order[p] as usize;
+            out[i] = out[i].min(self.slots.get(p));
+        }
+        candidates
+    }
+
+    /// Stage 3 on rayon: hits offered to shared slots (an atomic `min`).
+    fn offer_pairs_in_parallel(&mut self, n: usize, options: QueryOptions) -> usize {
         self.slots.reset(n);
-        let (order, sorted, slots) = (self.grid.order(), &self.sorted, &self.slots);
+        let (order, sorted, slots) = (self.grid.order(), self.grid.sorted_spheres(), &self.slots);
         let candidates = AtomicUsize::new(0);
         self.grid.visit_pairs(&|pairs| {
             candidates.fetch_add(pairs.len(), Ordering::Relaxed);
@@ -48,12 +60,23 @@ impl SceneQuery {
                 slots.offer(q, CompactContact::sphere(time, order[p]));
             });
         });
-        let order = self.grid.order();
-        for p in 0..n {
-            let i = order[p] as usize;
-            out[i] = out[i].min(self.slots.get(p));
-        }
         candidates.into_inner()
+    }
+
+    /// Stage 3 on one thread: the same offers to plain slots.
+    fn offer_pairs_in_order(&mut self, n: usize, options: QueryOptions) -> usize {
+        let (order, sorted) = (self.grid.order(), self.grid.sorted_spheres());
+        let slots = self.slots.plain(n);
+        let mut candidates = 0;
+        self.grid.visit_pairs_mut(&mut |pairs| {
+            candidates += pairs.len();
+            listed_hits(sorted, pairs, options, &mut |[p, q], time| {
+                let (p, q) = (p as usize, q as usize);
+                slots[p] = slots[p].min(CompactContact::sphere(time, order[q]));
+                slots[q] = slots[q].min(CompactContact::sphere(time, order[p]));
+            });
+        });
+        candidates
     }
 
     /// Every sphere–sphere contact in the (finite) window, appended to `events` (in no
@@ -65,7 +88,7 @@ impl SceneQuery {
         events: &mut Vec<ContactEvent>,
     ) -> usize {
         self.cells_and_records(store, options.t_max());
-        let (order, sorted) = (self.grid.order(), &self.sorted);
+        let (order, sorted) = (self.grid.order(), self.grid.sorted_spheres());
         let found = Mutex::new(std::mem::take(events));
         let candidates = AtomicUsize::new(0);
         self.grid.visit_pairs(&|pairs| {
@@ -87,7 +110,6 @@ impl SceneQuery {
     /// Heap bytes the query holds between calls (grid, records, slots, buffers).
     pub fn heap_bytes(&self) -> usize {
         self.grid.heap_bytes()
-            + (self.packed.0.capacity() + self.sorted.0.capacity()) * 32
             + self.slots.heap_bytes()
             + self.times.capacity() * 4
             + self.compact.capacity() * 8
@@ -137,7 +159,10 @@ mod tests {
         let mut grid = crate::broad::Grid::new();
         grid.build(&scene.spheres, 4.0, Default::default());
         assert_eq!(candidates, grid.pairs().len());
-        assert!(candidates > 20_000, "{candidates} pairs: more than ten buffers' worth");
+        assert!(
+            candidates > 20_000,
+            "{candidates} pairs: more than ten buffers' worth"
+        );
         let brute = super::super::brute_force::first_contacts(&scene, options);
         for (i, (c, b)) in firsts.iter().zip(&brute).enumerate() {
             assert_eq!(c.get(), b.map(|b| (b.time, b.body)), "sphere {i}");

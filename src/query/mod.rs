@@ -34,7 +34,7 @@ use crate::broad::{Grid, GridOptions};
 use crate::contact::{Body, Contact, contact_at};
 use crate::scene::Scene;
 use crate::statics::{OfKind, Visitor};
-use crate::store::{PackedSpheres, SphereStore};
+use crate::store::SphereStore;
 use compact::Slots;
 
 /// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
@@ -120,8 +120,6 @@ pub struct QueryStats {
 pub struct SceneQuery {
     grid: Grid,
     options: GridOptions,
-    packed: PackedSpheres,
-    sorted: PackedSpheres,
     /// Each sphere's earliest contact with a sphere, by cell position.
     slots: Slots,
     /// One static shape's times for every sphere.

@@ -512,31 +512,10 @@ impl SphereStore {
 #[repr(C, align(32))]
 pub(crate) struct Packed(pub(crate) [f32; 8]);
 
-/// Spheres as packed records, for the gathers of a broad phase's candidate pairs.
+/// Spheres as packed records, for the gathers of a broad phase's candidate pairs (the grid
+/// writes them in cell order).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PackedSpheres(pub(crate) Vec<Packed>);
-
-impl PackedSpheres {
-    /// Refills with the spheres of `store`, in order (one sequential pass).
-    pub(crate) fn pack(&mut self, store: &SphereStore) {
-        self.0.clear();
-        self.0.reserve(store.len());
-        for (k, b) in store.blocks.iter().enumerate() {
-            let lanes = PAD.min(store.len - k * PAD);
-            self.0.extend((0..lanes).map(|l| {
-                Packed([
-                    b.cx[l], b.cy[l], b.cz[l], b.vx[l], b.vy[l], b.vz[l], b.r[l], 0.0,
-                ])
-            }));
-        }
-    }
-
-    /// Refills with `src`'s records in the order `order` (`order[k]` goes to position `k`).
-    pub(crate) fn permute_from(&mut self, src: &PackedSpheres, order: &[u32]) {
-        self.0.clear();
-        self.0.extend(order.iter().map(|&i| src.0[i as usize]));
-    }
-}
 
 /// Where a batch driver gathers the spheres of listed pairs from.
 pub(crate) trait Gather: Sync {

@@ -139,6 +139,8 @@ struct BuildInput<'a> {
     n: usize,
     par: bool,
     cap: f64,
+    /// Whether to copy the spheres' records into cell order too.
+    records: bool,
 }
 
 /// The cells chosen before the layout is (module docs, steps 2 and 3).
@@ -199,6 +201,8 @@ pub struct Grid {
     pairs: Vec<[u32; 2]>,
     npairs: usize,
     recs: Vec<Rec>,
+    /// The spheres' records in cell order (only for [`build_cells`](Grid::build_cells)).
+    sorted: crate::store::PackedSpheres,
     keys: Vec<u32>,
     kk: Vec<u32>,
     skey: Vec<u32>,
@@ -287,7 +291,7 @@ impl Grid {
         use std::mem::size_of;
         let mut b = (self.order.capacity() + self.order_tmp.capacity()) * 4
             + self.pairs.capacity() * 8
-            + self.recs.capacity() * size_of::<Rec>()
+            + (self.recs.capacity() + self.sorted.0.capacity()) * size_of::<Rec>()
             + (self.keys.capacity()
                 + self.kk.capacity()
                 + self.skey.capacity()
@@ -336,7 +340,8 @@ impl Grid {
     /// If the columns differ in length, `t_max` is not finite and `>= 0`, a given cell size is
     /// not finite and `> 0`, or there are more than about `2^30` spheres.
     pub fn build(&mut self, cols: SphereBlocks<'_>, t_max: f32, opts: GridOptions) {
-        if let Some(input) = self.cells_of(cols, t_max, opts) {
+        self.sorted.0.clear();
+        if let Some(input) = self.cells_of(cols, t_max, opts, false) {
             self.find_pairs(&input);
         }
     }
@@ -345,7 +350,7 @@ impl Grid {
     /// [`visit_pairs`](Grid::visit_pairs) hands the pairs on in small batches instead of a
     /// list, so memory stays linear in `N` whatever the window. Same panics as `build`.
     pub fn build_cells(&mut self, cols: SphereBlocks<'_>, t_max: f32, opts: GridOptions) {
-        if let Some(input) = self.cells_of(cols, t_max, opts) {
+        if let Some(input) = self.cells_of(cols, t_max, opts, true) {
             self.plan_pair_work(input.n, input.par);
         }
     }
@@ -359,11 +364,33 @@ impl Grid {
         }
     }
 
+    /// [`visit_pairs`](Grid::visit_pairs) on the calling thread, to a visitor with state of
+    /// its own (no locks, no atomics).
+    pub fn visit_pairs_mut(&self, visit: &mut dyn FnMut(&[[u32; 2]])) {
+        let n = self.order.len();
+        if n > 0 && !self.scratch.is_empty() {
+            let mut buf = self.scratch[0].lock().unwrap_or_else(|e| e.into_inner());
+            self.visit_pairs_in_order(n, &mut buf, visit);
+        }
+    }
+
+    /// The spheres of the last [`build_cells`](Grid::build_cells) as records in
+    /// [`order`](Grid::order) (empty after [`build`](Grid::build)).
+    pub(crate) fn sorted_spheres(&self) -> &crate::store::PackedSpheres {
+        &self.sorted
+    }
+
+    /// Whether the last build ran on rayon (enough spheres, more than one thread).
+    pub fn parallel(&self) -> bool {
+        self.par
+    }
+
     fn cells_of<'a>(
         &mut self,
         cols: SphereBlocks<'a>,
         t_max: f32,
         opts: GridOptions,
+        records: bool,
     ) -> Option<BuildInput<'a>> {
         if !self.start(&cols, t_max, opts) {
             return None;
@@ -376,6 +403,7 @@ impl Grid {
             // One thread: the sequential path, which gives the same result without the copies.
             par: n >= PAR_MIN && rayon::current_num_threads() > 1,
             cap: 2.0 * n as f64 + 1024.0,
+            records,
         };
         let histogram = self.extent_histogram(&input);
         let cells = self.choose_cells(&input, opts, &histogram);

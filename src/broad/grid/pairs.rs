@@ -80,6 +80,10 @@ impl Grid {
     /// does not grow with the number of pairs. On rayon when the build was parallel; every
     /// pair is visited exactly once, in an order that may depend on the thread count.
     pub(super) fn visit_pairs_of(&self, n: usize, par: bool, visit: &(dyn Fn(&[[u32; 2]]) + Sync)) {
+        if !par {
+            let mut buf = self.scratch[0].lock().unwrap_or_else(|e| e.into_inner());
+            return self.visit_pairs_in_order(n, &mut buf, &mut |pairs| visit(pairs));
+        }
         let view = view!(self, n);
         let run = |it: &Item, buf: &mut Vec<[u32; 2]>| {
             let mut sink = |pairs: &[[u32; 2]]| visit(pairs);
@@ -93,17 +97,33 @@ impl Grid {
                 visit(&out.buf[..out.len]);
             }
         };
-        if par {
-            let scratch = &self.scratch;
-            self.items.par_iter().for_each(|it| {
-                let worker = rayon::current_thread_index().unwrap_or(0) % scratch.len();
-                let mut buf = scratch[worker].lock().unwrap_or_else(|e| e.into_inner());
-                run(it, &mut buf);
-            });
-        } else {
-            let mut buf = self.scratch[0].lock().unwrap_or_else(|e| e.into_inner());
-            for it in &self.items {
-                run(it, &mut buf);
+        let scratch = &self.scratch;
+        self.items.par_iter().for_each(|it| {
+            let worker = rayon::current_thread_index().unwrap_or(0) % scratch.len();
+            let mut buf = scratch[worker].lock().unwrap_or_else(|e| e.into_inner());
+            run(it, &mut buf);
+        });
+    }
+
+    /// [`visit_pairs_of`](Self::visit_pairs_of) on this thread, the batches in the order of
+    /// the work items, to a visitor that may keep state without synchronisation.
+    pub(super) fn visit_pairs_in_order(
+        &self,
+        n: usize,
+        buf: &mut Vec<[u32; 2]>,
+        visit: &mut dyn FnMut(&[[u32; 2]]),
+    ) {
+        let view = view!(self, n);
+        for it in &self.items {
+            let mut flush = Flush {
+                at: FLUSH_AT,
+                sink: Some(&mut *visit),
+            };
+            let mut out = Out { buf, len: 0 };
+            view.item(*it, &mut out, &mut flush);
+            let len = out.len;
+            if len > 0 {
+                visit(&buf[..len]);
             }
         }
     }

@@ -5,13 +5,14 @@
 use rayon::prelude::*;
 use wide::{f32x8, i32x8, u32x8};
 
-use super::spheres::{SphereBlocks, boxes8};
+use super::spheres::{SphereBlocks, box_of, boxes_of8, spheres8};
 use super::{BuildInput, CellChoice, Grid, Layout, SPHERE_CHUNK};
+use crate::store::Packed;
 
-/// One sphere's box and key, as written by the key pass and read by the scatter.
-#[derive(Clone, Copy)]
-#[repr(C, align(32))]
-pub(super) struct Rec([f32; 8]);
+/// One sphere as the key pass writes it and the gather reads it: centre, velocity, radius
+/// (the store's packed record), from which the gather recomputes the box and which it copies
+/// into cell order for the narrow phase.
+pub(super) type Rec = Packed;
 
 /// The grid mapping used by the key pass.
 #[derive(Clone, Copy)]
@@ -167,7 +168,7 @@ impl Grid {
     /// order).
     fn size_sort_buffers(&mut self, n: usize, coherent: bool) {
         if !coherent {
-            self.recs.resize(n, Rec([0.0; 8]));
+            self.recs.resize(n, Packed::default());
         }
         self.order_tmp.resize(n, 0);
         self.skey.resize(n, 0);
@@ -211,17 +212,29 @@ impl Grid {
     pub(super) fn gather_sorted_boxes(&mut self, input: &BuildInput<'_>) {
         let (cols, t_max, n) = (&input.cols, input.t_max, input.n);
         let coherent = self.coherent;
+        // The records in cell order too, when the caller asked for them (the query's narrow
+        // phase reads them); else an empty column.
+        let records = if input.records { n } else { 0 };
+        self.sorted.0.resize(records, Packed::default());
         let [lx, ly, lz, hx, hy, hz] = &mut self.boxes;
         let recs = &self.recs[..];
         let ot = &self.order_tmp[..n];
-        let work = |c: &[u32], out: [&mut [f32]; 6]| {
+        let work = |c: &[u32], out: [&mut [f32]; 6], sorted: &mut [Packed]| {
             if coherent {
-                gather_cols(cols, t_max, c, out)
+                gather_cols(cols, t_max, c, out, sorted)
             } else {
-                gather_boxes(recs, c, out)
+                gather_boxes(recs, t_max, c, out, sorted)
             }
         };
+        let sorted = &mut self.sorted.0[..];
         let runs: usize = if input.par {
+            let sorted = if records > 0 {
+                rayon::iter::Either::Left(sorted.par_chunks_mut(SPHERE_CHUNK))
+            } else {
+                let chunks = n.div_ceil(SPHERE_CHUNK);
+                let none = |_| -> &mut [Packed] { &mut [] };
+                rayon::iter::Either::Right((0..chunks).into_par_iter().map(none))
+            };
             ot.par_chunks(SPHERE_CHUNK)
                 .zip(
                     lx[..n]
@@ -232,7 +245,10 @@ impl Grid {
                         .zip(hy[..n].par_chunks_mut(SPHERE_CHUNK))
                         .zip(hz[..n].par_chunks_mut(SPHERE_CHUNK)),
                 )
-                .map(|(c, (((((lx, ly), lz), hx), hy), hz))| work(c, [lx, ly, lz, hx, hy, hz]))
+                .zip(sorted)
+                .map(|((c, (((((lx, ly), lz), hx), hy), hz)), s)| {
+                    work(c, [lx, ly, lz, hx, hy, hz], s)
+                })
                 .sum()
         } else {
             work(
@@ -245,6 +261,7 @@ impl Grid {
                     &mut hy[..n],
                     &mut hz[..n],
                 ],
+                sorted,
             )
         };
         self.coherent = runs * 8 * 2 >= n;
@@ -448,9 +465,16 @@ fn runs8(idx: &[u32]) -> usize {
         .count()
 }
 
-/// Write the boxes of spheres `idx` (records `recs`) into the six sorted columns; returns
+/// Write the boxes of spheres `idx`, recomputed from their records `recs`, into the six
+/// sorted columns, and the records themselves into `sorted` unless it is empty; returns
 /// [`runs8`] of `idx`.
-fn gather_boxes(recs: &[Rec], idx: &[u32], cols: [&mut [f32]; 6]) -> usize {
+fn gather_boxes(
+    recs: &[Rec],
+    t_max: f32,
+    idx: &[u32],
+    cols: [&mut [f32]; 6],
+    sorted: &mut [Packed],
+) -> usize {
     let [lx, ly, lz, hx, hy, hz] = cols;
     let m = idx.len();
     let (lx, ly, lz, hx, hy, hz) = (
@@ -461,22 +485,41 @@ fn gather_boxes(recs: &[Rec], idx: &[u32], cols: [&mut [f32]; 6]) -> usize {
         &mut hy[..m],
         &mut hz[..m],
     );
+    let copy = !sorted.is_empty();
     for j in 0..m {
-        let r = &recs[idx[j] as usize].0;
-        lx[j] = r[0];
-        ly[j] = r[1];
-        lz[j] = r[2];
-        hx[j] = r[3];
-        hy[j] = r[4];
-        hz[j] = r[5];
+        let rec = recs[idx[j] as usize];
+        let [cx, cy, cz, vx, vy, vz, r, _] = rec.0;
+        let b = box_of([cx, cy, cz], [vx, vy, vz], r, t_max);
+        lx[j] = b[0];
+        ly[j] = b[1];
+        lz[j] = b[2];
+        hx[j] = b[3];
+        hy[j] = b[4];
+        hz[j] = b[5];
+        if copy {
+            sorted[j] = rec;
+        }
     }
     runs8(idx)
 }
 
 /// Write the boxes of spheres `idx`, recomputed from the columns, into the six sorted
 /// columns: 8 at a time where `idx` holds 8 consecutive indices, else one by one (with the
-/// same float operations as [`boxes8`]). Returns [`runs8`] of `idx`.
-fn gather_cols(cols: &SphereBlocks<'_>, t_max: f32, idx: &[u32], out: [&mut [f32]; 6]) -> usize {
+/// same float operations as [`boxes_of8`]); and the spheres' records into `sorted` unless it
+/// is empty. Returns [`runs8`] of `idx`.
+fn gather_cols(
+    cols: &SphereBlocks<'_>,
+    t_max: f32,
+    idx: &[u32],
+    out: [&mut [f32]; 6],
+    sorted: &mut [Packed],
+) -> usize {
+    if !sorted.is_empty() {
+        for (slot, &i) in sorted.iter_mut().zip(idx) {
+            let (c, v, r) = cols.at(i as usize);
+            *slot = Packed([c[0], c[1], c[2], v[0], v[1], v[2], r, 0.0]);
+        }
+    }
     let m = idx.len();
     let [lx, ly, lz, hx, hy, hz] = out;
     let o = [
@@ -496,7 +539,8 @@ fn gather_cols(cols: &SphereBlocks<'_>, t_max: f32, idx: &[u32], out: [&mut [f32
             && u32x8::from(*c).simd_eq(u32x8::splat(c[0]) + iota).all()
         {
             runs += 1;
-            let (lo, hi) = boxes8(cols, c[0] as usize, t);
+            let (cc, vv, rr) = spheres8(cols, c[0] as usize);
+            let (lo, hi) = boxes_of8(&cc, &vv, rr, t);
             for a in 0..3 {
                 *o[a][j..].first_chunk_mut::<8>().unwrap() = lo[a].to_array();
                 *o[3 + a][j..].first_chunk_mut::<8>().unwrap() = hi[a].to_array();
@@ -505,13 +549,10 @@ fn gather_cols(cols: &SphereBlocks<'_>, t_max: f32, idx: &[u32], out: [&mut [f32
             continue;
         }
         for l in j..(j + 8).min(m) {
-            let i = idx[l] as usize;
-            let (c, v, r) = cols.at(i);
-            for a in 0..3 {
-                let e = c[a] + v[a] * t_max;
-                // `vminps(c, e)` / `vmaxps(c, e)`, as `fast_min` / `fast_max` in `boxes8`.
-                o[a][l] = (if c[a] < e { c[a] } else { e }) - r;
-                o[3 + a][l] = (if c[a] > e { c[a] } else { e }) + r;
+            let (c, v, r) = cols.at(idx[l] as usize);
+            let b = box_of(c, v, r, t_max);
+            for a in 0..6 {
+                o[a][l] = b[a];
             }
         }
         j += 8;
@@ -583,7 +624,8 @@ fn keys_chunk<K: Key>(
     let len = keys.len();
     let mut j = 0;
     while j < len {
-        let (lo, hi) = boxes8(cols, start + j, t);
+        let (c, v, r) = spheres8(cols, start + j);
+        let (lo, hi) = boxes_of8(&c, &v, r, t);
         let gl = [cell(lo[0], 0), cell(lo[1], 1), cell(lo[2], 2)];
         let gh = [cell(hi[0], 0), cell(hi[1], 1), cell(hi[2], 2)];
         let over = (gh[0] - gl[0]).simd_gt(one)
@@ -593,9 +635,9 @@ fn keys_chunk<K: Key>(
         let m = (len - j).min(8);
         keys[j..j + m].copy_from_slice(&ka[..m]);
         if write {
-            let rows = f32x8::transpose([lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], zero, zero]);
+            let rows = f32x8::transpose([c[0], c[1], c[2], v[0], v[1], v[2], r, zero]);
             for l in 0..m {
-                recs[j + l] = Rec(rows[l].to_array());
+                recs[j + l] = Packed(rows[l].to_array());
             }
         }
         j += 8;

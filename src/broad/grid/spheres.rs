@@ -62,7 +62,15 @@ pub fn swept_box(cols: &SphereBlocks<'_>, i: usize, t_max: f32) -> ([f32; 3], [f
 /// columns when `i` starts a full block, else lane by lane.
 #[inline(always)]
 pub(super) fn boxes8(cols: &SphereBlocks<'_>, i: usize, t: f32x8) -> ([f32x8; 3], [f32x8; 3]) {
-    let (c, v, r) = if i.is_multiple_of(8) && i + 8 <= cols.n {
+    let (c, v, r) = spheres8(cols, i);
+    boxes_of8(&c, &v, r, t)
+}
+
+/// Centres, velocities and radii of spheres `i..i+8` as lanes (lanes past the end are zero
+/// spheres).
+#[inline(always)]
+pub(super) fn spheres8(cols: &SphereBlocks<'_>, i: usize) -> ([f32x8; 3], [f32x8; 3], f32x8) {
+    if i.is_multiple_of(8) && i + 8 <= cols.n {
         let b = &cols.blocks[i / 8];
         let f = f32x8::from;
         (
@@ -81,7 +89,17 @@ pub(super) fn boxes8(cols: &SphereBlocks<'_>, i: usize, t: f32x8) -> ([f32x8; 3]
             r[l] = rr;
         }
         (c.map(f32x8::from), v.map(f32x8::from), f32x8::from(r))
-    };
+    }
+}
+
+/// The swept boxes of lanes of spheres: the grid's one definition (module docs).
+#[inline(always)]
+pub(super) fn boxes_of8(
+    c: &[f32x8; 3],
+    v: &[f32x8; 3],
+    r: f32x8,
+    t: f32x8,
+) -> ([f32x8; 3], [f32x8; 3]) {
     let mut lo = [f32x8::ZERO; 3];
     let mut hi = [f32x8::ZERO; 3];
     for a in 0..3 {
@@ -90,6 +108,19 @@ pub(super) fn boxes8(cols: &SphereBlocks<'_>, i: usize, t: f32x8) -> ([f32x8; 3]
         hi[a] = c[a].fast_max(e) + r;
     }
     (lo, hi)
+}
+
+/// One sphere's swept box with the same float operations as [`boxes_of8`] (`vminps(c, e)` /
+/// `vmaxps(c, e)`, as `fast_min` / `fast_max` there).
+#[inline(always)]
+pub(super) fn box_of(c: [f32; 3], v: [f32; 3], r: f32, t_max: f32) -> [f32; 6] {
+    let mut b = [0.0; 6];
+    for a in 0..3 {
+        let e = c[a] + v[a] * t_max;
+        b[a] = (if c[a] < e { c[a] } else { e }) - r;
+        b[3 + a] = (if c[a] > e { c[a] } else { e }) + r;
+    }
+    b
 }
 
 /// Largest extent of each box, as non-negative float bits.
