@@ -8,9 +8,9 @@
 //! monotone and `T` is an f32). So a sphere whose earliest contact after a round is *below*
 //! `T` has its final answer, ties included: a contact at `T` or later cannot be earlier, nor
 //! tie. `T` starts at the time a typical sphere takes to travel its radius and doubles while
-//! a round costs less than finishing directly and the rounds still close spheres. Then each
-//! sphere still open is tested against every sphere, as the brute force does (one row of `N`
-//! times per thread).
+//! the next round is expected to cost less than the rows it saves (it closes about as many
+//! spheres as the last). Then each sphere still open is tested against every sphere, as the
+//! brute force does (one row of `N` times per thread).
 //!
 //! **All contacts**: the brute force's rows, on rayon; memory is the contacts found plus one
 //! row per thread.
@@ -34,7 +34,7 @@ impl SceneQuery {
     ) -> usize {
         let n = store.len();
         let mut window = first_window(store);
-        let (mut tested, mut before, mut stalled) = (0, n, 0);
+        let (mut tested, mut before) = (0, n);
         let open = loop {
             let round = QueryOptions::new(window, options.accuracy())
                 .expect("a finite window >= 0")
@@ -42,20 +42,14 @@ impl SceneQuery {
             let candidates = self.sphere_firsts_in_window(store, round, out);
             tested += candidates;
             let open = out.iter().filter(|c| !final_below(**c, window)).count();
-            stalled = if 10 * open > 9 * before {
-                stalled + 1
-            } else {
-                0
-            };
+            let closed = before - open;
             before = open;
             let next = window * 2.0;
-            if open == 0 || !next.is_finite() || stalled == STALLED_ROUNDS {
-                break open;
-            }
-            // A round costs about ROUND_COST pair tests a sphere plus its candidates (the
-            // next has at least as many); finishing now costs `open` rows of `n`.
-            let round_cost = (ROUND_COST * n + candidates) as u128;
-            if round_cost >= (open * n) as u128 {
+            // The next round costs its grid and more candidates than this one (up to 8×: a
+            // swept box's volume grows as T³); it pays if it closes about as many spheres as
+            // this one did, each of which would otherwise cost a row of `n`.
+            let next_cost = (ROUND_COST * n) as u128 + 4 * (CANDIDATE_COST * candidates) as u128;
+            if open == 0 || !next.is_finite() || next_cost >= (closed * n) as u128 {
                 break open;
             }
             window = next;
@@ -122,12 +116,12 @@ impl SceneQuery {
     }
 }
 
-/// Rounds in a row that close fewer than a tenth of the open spheres before the rest are
-/// finished by rows (those that never touch anything would keep every round busy).
-const STALLED_ROUNDS: u32 = 3;
-/// A round's grid costs about this many pair tests per sphere (measured: about 50 ns a
-/// sphere against 2 ns a pair).
-const ROUND_COST: usize = 25;
+/// A round's grid costs about this many pair tests of a row per sphere (measured: about 50 ns
+/// a sphere against 1.5 ns a pair of a row, whose spheres are read in order).
+const ROUND_COST: usize = 30;
+/// A candidate pair of a round costs about this many pair tests of a row (measured with
+/// `examples/unbounded_window`: about 7 ns, listed and gathered, against 1.5 ns).
+const CANDIDATE_COST: usize = 5;
 
 /// Whether `c` is a contact strictly before `window` (then it is final; see the module docs).
 fn final_below(c: CompactContact, window: f32) -> bool {

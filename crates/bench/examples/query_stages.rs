@@ -14,6 +14,25 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(100_000);
+    // `query_stages N only [K]`: the compact query alone, K times (default 20; for callgrind,
+    // the difference of two K).
+    if std::env::args().nth(2).as_deref() == Some("only") {
+        let scene = Scene {
+            spheres: scenes::uniform_gas(n, 0.3, 7),
+            ..Scene::default()
+        };
+        let options = QueryOptions::new(0.5, Accuracy::Stable).unwrap();
+        let (mut query, mut out) = (SceneQuery::new(), Vec::new());
+        let k: usize = std::env::args()
+            .nth(3)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(20);
+        for _ in 0..k {
+            query.first_contacts_compact_into(&scene, options, &mut out);
+            std::hint::black_box(&out);
+        }
+        return;
+    }
     output_cost(n);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
