@@ -1,6 +1,6 @@
 //! The whole-scene query: `Scene`, `first_contacts` and `all_contacts`, refused up front with
-//! a `MemoryError` when the estimated peak exceeds the memory available, results as NumPy
-//! arrays.
+//! a `MemoryError` when the estimated peak (linear in the spheres, plus the contacts of
+//! `all_contacts`) exceeds the memory available, results as NumPy arrays.
 
 use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
@@ -139,8 +139,9 @@ impl Scene {
     }
 }
 
-/// `MemoryError` if the query's estimated peak (the library's estimate, plus the result
-/// columns: `row_bytes` a row) exceeds the memory available.
+/// `MemoryError` if the query's estimated peak (the library's estimate: linear in the spheres,
+/// plus the contacts for `all_contacts`; and the result columns, `row_bytes` a row) exceeds
+/// the memory available.
 fn check_query(
     name: &str,
     scene: &RustScene,
@@ -155,17 +156,16 @@ fn check_query(
         scene.spheres.len()
     };
     let bytes = (e.bytes as usize).saturating_add(rows.saturating_mul(row_bytes));
-    let why = if opts.t_max().is_finite() {
-        String::new()
+    let contacts = if every {
+        format!(", about {} contacts to return", e.contacts)
     } else {
-        " (an infinite window has no cull: every pair is a candidate, n (n - 1) / 2 of them)".into()
+        String::new()
     };
     memory::check(
         &format!(
-            "{name}: {} spheres, t_max = {}: {} candidate pairs{why}",
+            "{name}: {} spheres, t_max = {}{contacts}",
             scene.spheres.len(),
             show(f64::from(opts.t_max())),
-            e.candidate_pairs
         ),
         bytes,
     )
@@ -220,9 +220,9 @@ const FIRST_ROW: usize = 4 + 1 + 8 + 24;
 const ALL_ROW: usize = 4 + 4 + 1 + 8 + 24;
 
 /// For every sphere of `scene`, its earliest contact in `[0, t_max]` (see `FirstContacts`).
-/// `t_max` is rounded to float32. An infinite window (the default) tests every pair, n (n-1)/2
-/// of them, and holds them all: `MemoryError` (with the estimate) before anything is allocated
-/// when the query would not fit. The GIL is released during the query.
+/// `t_max` is rounded to float32. Memory is linear in the spheres whatever the window; an
+/// infinite window (the default) has no cull, so it takes time (successive windows, then a
+/// brute-force row for each sphere still open). The GIL is released during the query.
 #[pyfunction]
 #[pyo3(signature = (scene, *, t_max = None, accuracy = None, geometry = None),
        text_signature = "(scene, *, t_max=math.inf, accuracy='stable', geometry=False)")]
@@ -269,10 +269,9 @@ pub fn first_contacts(
 }
 
 /// Every contact in `[0, t_max]` (see `Contacts`): each sphere pair once, and every sphere
-/// with every static shape it touches. `t_max` is required; the candidate pairs (all of them
-/// for an infinite window) and the contacts are held at once: `MemoryError` (with the
-/// estimate) before anything is allocated when they would not fit. The GIL is released
-/// during the query.
+/// with every static shape it touches. `t_max` is required; the contacts are held at once
+/// (the candidate pairs never are): `MemoryError` (with the estimate) before anything is
+/// allocated when they would not fit. The GIL is released during the query.
 #[pyfunction]
 #[pyo3(signature = (scene, *, t_max, accuracy = None, geometry = None),
        text_signature = "(scene, *, t_max, accuracy='stable', geometry=False)")]

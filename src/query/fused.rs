@@ -39,9 +39,8 @@ impl SceneQuery {
         } else {
             self.offer_pairs_in_order(n, options)
         };
-        let order = self.grid.order();
-        for p in 0..n {
-            let i = order[p] as usize;
+        for (p, &i) in self.grid.order().iter().enumerate() {
+            let i = i as usize;
             out[i] = out[i].min(self.slots.get(p));
         }
         candidates

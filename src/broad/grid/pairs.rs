@@ -220,8 +220,11 @@ pub(super) const FLUSH_AT: usize = 2048;
 /// a buffer holds at most `at` plus one or two spheres' pairs); never when listing.
 struct Flush<'s> {
     at: usize,
-    sink: Option<&'s mut dyn FnMut(&[[u32; 2]])>,
+    sink: Option<&'s mut PairSink<'s>>,
 }
+
+/// What a visiting pass hands full buffers to.
+type PairSink<'s> = dyn FnMut(&[[u32; 2]]) + 's;
 
 impl Flush<'_> {
     /// Listing: the buffer only grows.
