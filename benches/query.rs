@@ -1,6 +1,6 @@
 //! The whole first-contact query (broad phase + narrow phase + reduction), ours against parry3d
 //! (`Bvh` incremental for the candidates, `cast_shapes` on each, the earliest kept), one
-//! thread; and ours on two threads. Uniform gas at φ = 0.3 and 0.05, half a radius of travel,
+//! thread; and ours in a two-thread rayon pool. Uniform gas at φ = 0.3 and 0.05, half a radius of travel,
 //! N = 10³ … 10⁶. Results: docs/benchmarks.md.
 
 use std::hint::black_box;
@@ -14,10 +14,13 @@ use spheresweep_bench::peer::ParryQuery;
 use spheresweep_bench::scenes;
 
 fn query(c: &mut Criterion) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    let (pool, pool2) = (pool(1), pool(2));
     let t_max = scenes::window(0.5);
     let options = QueryOptions::new(t_max, Accuracy::Stable).unwrap();
     for phi in [0.3, 0.05] {
@@ -42,9 +45,11 @@ fn query(c: &mut Criterion) {
             });
             let (mut ours2, mut out2) = (SceneQuery::new(), Vec::new());
             g.bench_function(format!("stable-2-threads/{n}"), |b| {
-                b.iter(|| {
-                    ours2.first_contacts_into(&scene, options, &mut out2);
-                    black_box(&out2);
+                pool2.install(|| {
+                    b.iter(|| {
+                        ours2.first_contacts_into(&scene, options, &mut out2);
+                        black_box(&out2);
+                    })
                 })
             });
             let mut parry = ParryQuery::new();
