@@ -7,11 +7,23 @@ use spheresweep_bench::floor::{self, ARRAY_BYTES};
 
 use super::Line;
 
-/// One line per thread count: the floor's low end as the time, the range and the rates noted.
+/// One line per thread count: the floor's low end as the time, the range and the rates noted,
+/// and how many times the low end the whole query measured earlier in the run took at N = 10⁶.
 pub fn lines(lines: &mut Vec<Line>) {
     for threads in [1, 2] {
         let bandwidth = floor::bandwidth(threads, ARRAY_BYTES, 5);
         let f = floor::floor(bandwidth);
+        let query: Vec<String> = lines
+            .iter()
+            .filter(|l| l.group.starts_with("whole query") && l.n == 1_000_000)
+            .filter(|l| l.threads == threads)
+            .map(|l| format!("{:.0}× ({})", l.ns / f.low_ns, phi_of(&l.group)))
+            .collect();
+        let query = if query.is_empty() {
+            String::new()
+        } else {
+            format!("; the query at N = 10⁶: {} the low end", query.join(", "))
+        };
         lines.push(Line {
             group: "memory floor of the whole query (minimum bytes per sphere at this machine's streaming bandwidth, 800 MB arrays)".into(),
             name: format!("floor, {threads} thread{}", if threads == 1 { "" } else { "s" }),
@@ -25,9 +37,17 @@ pub fn lines(lines: &mut Vec<Line>) {
                 f.bytes_with_write_allocate,
                 bandwidth.read / 1e9,
                 bandwidth.copy / 1e9
-            ),
+            ) + &query,
             threads,
             ..Line::default()
         });
     }
+}
+
+/// The `phi …` part of a group's name ("phi 0.3"), or the name itself.
+fn phi_of(group: &str) -> &str {
+    group
+        .find("phi ")
+        .and_then(|at| group[at..].split(',').next())
+        .unwrap_or(group)
 }
