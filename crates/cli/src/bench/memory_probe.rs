@@ -2,7 +2,9 @@
 //! The library does not report it (no `SceneQuery::heap_bytes` yet), so it is read from Linux's
 //! `/proc/self/status`: resident memory before and after the call, and the peak during it (the
 //! peak reset through `/proc/self/clear_refs`). It runs in a fresh process (`spheresweep bench
-//! --memory-probe N`), where no memory freed by earlier measurements can be reused unseen.
+//! --memory-probe N`), where no memory freed by earlier measurements can be reused unseen, with
+//! glibc's mmap threshold fixed at 64 KiB (`MALLOC_MMAP_THRESHOLD_`): every large buffer is
+//! mapped for itself and unmapped when freed, so none left by building the scene is reused.
 //! Resident memory counts touched pages only: capacity reserved and never written is not in it.
 
 use std::fmt;
@@ -38,6 +40,7 @@ pub fn measure(n: usize, phi: f64) -> Result<QueryMemory, String> {
     let out = Command::new(exe)
         .args(["bench", "--memory-probe", &n.to_string()])
         .args(["--memory-probe-phi", &phi.to_string()])
+        .env("MALLOC_MMAP_THRESHOLD_", "65536")
         .stdin(Stdio::null())
         .stderr(Stdio::null())
         .output()
