@@ -2,16 +2,18 @@
 //! against parry3d's `cast_shapes`, the broad phase against parry3d's `Bvh`, and the whole
 //! first-contact query against parry's `Bvh` + `cast_shapes` (with the memory it holds per
 //! sphere and, in the full run, the memory floor) — measured side by side in one run, ours on
-//! one and two threads, the peer on one, best of several timings, printed with the ratios.
+//! one and two threads, the peer on one, best of several interleaved timings, printed with the
+//! ratios.
 
 mod floor;
+mod interleaved;
 mod memory_probe;
 mod whole_scene;
 
 use std::error::Error;
 use std::hint::black_box;
 use std::io::Write;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use indicatif::ProgressBar;
 use spheresweep::{Accuracy, QueryOptions};
@@ -92,24 +94,17 @@ fn simd_level() -> &'static str {
 
 /// Best time per item of `f` over `rounds` timings of at least `min` each.
 fn best_ns(items: usize, rounds: usize, min: Duration, mut f: impl FnMut()) -> f64 {
-    let mut best = f64::INFINITY;
     f();
-    for _ in 0..rounds {
-        let (start, mut reps) = (Instant::now(), 0u32);
-        while reps == 0 || start.elapsed() < min {
-            f();
-            reps += 1;
-        }
-        let ns = start.elapsed().as_secs_f64() * 1e9 / (f64::from(reps) * items as f64);
-        best = best.min(ns);
-    }
-    best
+    (0..rounds)
+        .map(|_| interleaved::timing_ns(items, min, &mut f))
+        .fold(f64::INFINITY, f64::min)
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     if let Some(n) = args.memory_probe {
         return memory_probe::run(n, args.memory_probe_phi);
     }
+    let load = load_average();
     let pools = Pools::new()?;
     let timing = if args.quick {
         Timing {
@@ -146,9 +141,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     progress.finish_and_clear();
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", json(&lines))?;
+        writeln!(out, "{}", json(&lines, load))?;
     } else {
-        write_tables(&mut out, &lines)?;
+        write_tables(&mut out, &lines, load)?;
     }
     Ok(())
 }
@@ -343,10 +338,20 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
     }
 }
 
-fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
+/// The one-minute load average when the run started (Linux `/proc/loadavg`), if known: with
+/// other work on the machine, two threads of ours share the cores with it.
+fn load_average() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    text.split_whitespace().next()?.parse().ok()
+}
+
+fn write_tables(out: &mut impl Write, lines: &[Line], load: Option<f64>) -> std::io::Result<()> {
+    let load = load.map_or(String::new(), |l| {
+        format!(", load average {l:.2} at the start")
+    });
     writeln!(
         out,
-        "spheresweep {} — built for {}; ours on one thread unless a line says two, the peer on one; {} cores available",
+        "spheresweep {} — built for {}; ours on one thread unless a line says two, the peer on one; {} cores available{load}",
         env!("CARGO_PKG_VERSION"),
         simd_level(),
         std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -386,7 +391,7 @@ fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
 
 /// The report as one JSON object: every line with its threads, ratio and (for the query)
 /// bytes per sphere held after the first call and at its peak.
-fn json(lines: &[Line]) -> String {
+fn json(lines: &[Line], load: Option<f64>) -> String {
     let items: Vec<serde_json::Value> = lines
         .iter()
         .map(|l| {
@@ -408,6 +413,8 @@ fn json(lines: &[Line]) -> String {
         "version": env!("CARGO_PKG_VERSION"),
         "simd": simd_level(),
         "peer_threads": 1,
+        "cores": std::thread::available_parallelism().map_or(1, |n| n.get()),
+        "load_average": load,
         "lines": items,
     })
     .to_string()

@@ -14,6 +14,7 @@ use spheresweep::{Accuracy, QueryOptions, SphereStore};
 use spheresweep_bench::peer::{ParryIncremental, ParryQuery, ParryRebuild, swept_boxes_into};
 use spheresweep_bench::scenes;
 
+use super::interleaved::{self, Timed};
 use super::{Line, best_ns, memory_probe};
 
 /// The packing fractions of the gas, each its own groups.
@@ -102,27 +103,39 @@ fn broad_phase(
 ) {
     let n = store.len();
     let group = format!("broad phase (uniform gas, phi {phi}, half a radius of travel)");
-    let mut grid = Grid::new();
-    let mut time_grid = |pool: &ThreadPool| {
-        pool.install(|| {
-            best_ns(n, rounds, min, || {
-                grid.build(store, t_max, GridOptions::default());
-                black_box(grid.pairs().len());
-            })
-        })
-    };
-    let (one, two) = (time_grid(&pools.one), time_grid(&pools.two));
-    let candidates = grid.pairs().len();
     let (mut lo, mut hi) = (Vec::new(), Vec::new());
     swept_boxes_into(store, t_max, &mut lo, &mut hi);
+    let (mut grid, mut grid2) = (Grid::new(), Grid::new());
     let mut incremental = ParryIncremental::new();
-    incremental.count(&lo, &hi);
     let mut peer_pairs = 0;
-    let peer = pools.one.install(|| {
-        best_ns(n, rounds, min, || {
-            peer_pairs = incremental.count(&lo, &hi);
-        })
-    });
+    let [one, two, peer] = interleaved::best_ns(
+        n,
+        rounds,
+        [
+            Timed {
+                pool: &pools.one,
+                min,
+                work: &mut || {
+                    grid.build(store, t_max, GridOptions::default());
+                    black_box(grid.pairs().len());
+                },
+            },
+            Timed {
+                pool: &pools.two,
+                min,
+                work: &mut || {
+                    grid2.build(store, t_max, GridOptions::default());
+                    black_box(grid2.pairs().len());
+                },
+            },
+            Timed {
+                pool: &pools.one,
+                min,
+                work: &mut || peer_pairs = incremental.count(&lo, &hi),
+            },
+        ],
+    );
+    let candidates = grid.pairs().len();
     let per_sphere = |pairs: f64| pairs / n as f64;
     lines.push(Line {
         group: group.clone(),
@@ -185,24 +198,39 @@ fn query(
         ..Scene::default()
     };
     let options = QueryOptions::new(t_max, Accuracy::Stable).expect("valid window");
-    let time_query = |pool: &ThreadPool| {
-        let (mut query, mut firsts) = (SceneQuery::new(), Vec::new());
-        pool.install(|| {
-            best_ns(n, rounds, min, || {
-                query.first_contacts_into(&scene, options, &mut firsts);
-                black_box(&firsts);
-            })
-        })
-    };
-    let (one, two) = (time_query(&pools.one), time_query(&pools.two));
+    let (mut query, mut firsts) = (SceneQuery::new(), Vec::new());
+    let (mut query2, mut firsts2) = (SceneQuery::new(), Vec::new());
     let mut parry = ParryQuery::new();
     let mut out = vec![0.0f32; n];
-    parry.first_contacts(&scene.spheres, t_max, &mut out);
-    let peer = pools.one.install(|| {
-        best_ns(n, rounds.min(5), Duration::ZERO, || {
-            parry.first_contacts(&scene.spheres, t_max, &mut out);
-        })
-    });
+    let [one, two, peer] = interleaved::best_ns(
+        n,
+        rounds,
+        [
+            Timed {
+                pool: &pools.one,
+                min,
+                work: &mut || {
+                    query.first_contacts_into(&scene, options, &mut firsts);
+                    black_box(&firsts);
+                },
+            },
+            Timed {
+                pool: &pools.two,
+                min,
+                work: &mut || {
+                    query2.first_contacts_into(&scene, options, &mut firsts2);
+                    black_box(&firsts2);
+                },
+            },
+            Timed {
+                pool: &pools.one,
+                min: Duration::ZERO,
+                work: &mut || {
+                    black_box(parry.first_contacts(&scene.spheres, t_max, &mut out));
+                },
+            },
+        ],
+    );
     let memory_note = match &memory {
         Ok(m) => format!("; {m}"),
         Err(e) => format!("; memory not measured: {e}"),
