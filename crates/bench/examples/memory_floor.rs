@@ -27,13 +27,14 @@ fn main() {
         bytes as f64 / 1e6
     );
     println!(
-        "  {:>7} {:>10} {:>18} {:>18} {:>16} {:>12}",
+        "  {:>7} {:>10} {:>18} {:>18} {:>16} {:>12} {:>24}",
         "threads",
         "read GB/s",
         "copy GB/s (r + w)",
         "floor ns / sphere",
         "query ns/sphere",
-        "× floor"
+        "× floor",
+        "kept in cell order: ns"
     );
     let scene = Scene {
         spheres: scenes::uniform_gas(n, 0.3, 7),
@@ -41,14 +42,16 @@ fn main() {
     };
     for threads in [1, 2] {
         let b = floor::bandwidth(threads, bytes, 5);
-        let f = floor::floor(b);
+        let f = floor::floor(b, &floor::query_streams());
+        let kept = floor::floor(b, &floor::query_streams_kept_in_cell_order());
         let query = query_ns(&scene, threads);
         println!(
-            "  {threads:>7} {:>10.1} {:>18.1} {:>18} {query:>16.1} {:>12}",
+            "  {threads:>7} {:>10.1} {:>18.1} {:>18} {query:>16.1} {:>12} {:>24}",
             b.read / 1e9,
             b.copy / 1e9,
             format!("{:.1} – {:.1}", f.low_ns, f.high_ns),
-            format!("{:.0} – {:.0}", query / f.high_ns, query / f.low_ns)
+            format!("{:.0} – {:.0}", query / f.high_ns, query / f.low_ns),
+            format!("{:.1} – {:.1}", kept.low_ns, kept.high_ns)
         );
     }
     println!(
@@ -57,12 +60,19 @@ fn main() {
     );
 }
 
-/// The query's minimum traffic, stream by stream.
+/// The query's minimum traffic, stream by stream, in both designs.
 fn print_traffic() {
-    println!("query's minimum traffic per sphere (bytes):");
+    println!("query's minimum traffic per sphere (bytes), sorted into cell order each call:");
+    print_streams(&floor::query_streams());
+    println!("\nand with the spheres kept in cell order across frames:");
+    print_streams(&floor::query_streams_kept_in_cell_order());
+}
+
+/// A table of `streams` with its totals.
+fn print_streams(streams: &[floor::Stream]) {
     println!("  {:<34} {:>6} {:>8}", "", "read", "written");
     let (mut read, mut written) = (0, 0);
-    for s in floor::query_streams() {
+    for s in streams {
         println!("  {:<34} {:>6} {:>8}", s.what, s.read, s.written);
         read += s.read;
         written += s.written;

@@ -1,7 +1,8 @@
 //! The memory floor of the whole first-contact query: this machine's streaming bandwidth on
 //! arrays far larger than any cache (a sum of `u64`s, a `copy_from_slice`), one or more
-//! threads, and the fewest bytes the query must move per sphere, turned into the fewest
-//! nanoseconds per sphere any implementation could take at N = 10⁶.
+//! threads, and the fewest bytes the query must move per sphere (sorted into cell order each
+//! call, or kept in cell order across frames), turned into the fewest nanoseconds per sphere
+//! any implementation could take at N = 10⁶.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -137,9 +138,9 @@ pub fn query_streams() -> [Stream; 5] {
     ]
 }
 
-/// The floor in nanoseconds per sphere at one [`Bandwidth`], as a range: from the bytes of
-/// [`query_streams`] at the faster of the two rates, to the same bytes plus one read of every
-/// written line (write-allocate: ordinary stores fetch the line first) at the slower rate.
+/// The floor in nanoseconds per sphere at one [`Bandwidth`], as a range: from the bytes of the
+/// streams at the faster of the two rates, to the same bytes plus one read of every written
+/// line (write-allocate: ordinary stores fetch the line first) at the slower rate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Floor {
     /// Bytes per sphere read and written, without write-allocate.
@@ -152,16 +153,46 @@ pub struct Floor {
     pub high_ns: f64,
 }
 
-/// The query's [`Floor`] at `bandwidth`.
+/// The fewest bytes per sphere when the spheres are already kept in cell order across frames
+/// (issue 26's store): the record in cell order read, the slot of the caller's id read, the
+/// answer written in the caller's order.
 ///
 /// ```
-/// use spheresweep_bench::floor::{Bandwidth, floor};
-/// let f = floor(Bandwidth { threads: 1, read: 1e10, copy: 2e10 });
+/// let bytes: usize = spheresweep_bench::floor::query_streams_kept_in_cell_order()
+///     .iter()
+///     .map(|s| s.read + s.written)
+///     .sum();
+/// assert_eq!(bytes, 44);
+/// ```
+pub fn query_streams_kept_in_cell_order() -> [Stream; 3] {
+    [
+        Stream {
+            what: "record in cell order",
+            read: REORDERED_RECORD_BYTES,
+            written: 0,
+        },
+        Stream {
+            what: "slot of the caller's id (u32)",
+            read: 4,
+            written: 0,
+        },
+        Stream {
+            what: "answer (time, body)",
+            read: 0,
+            written: 8,
+        },
+    ]
+}
+
+/// The [`Floor`] of `streams` (e.g. [`query_streams`]) at `bandwidth`.
+///
+/// ```
+/// use spheresweep_bench::floor::{Bandwidth, floor, query_streams};
+/// let f = floor(Bandwidth { threads: 1, read: 1e10, copy: 2e10 }, &query_streams());
 /// assert!(f.low_ns < f.high_ns);
 /// assert_eq!(f.low_ns, f.bytes as f64 / 20.0); // bytes at 20 GB/s
 /// ```
-pub fn floor(bandwidth: Bandwidth) -> Floor {
-    let streams = query_streams();
+pub fn floor(bandwidth: Bandwidth, streams: &[Stream]) -> Floor {
     let read: usize = streams.iter().map(|s| s.read).sum();
     let written: usize = streams.iter().map(|s| s.written).sum();
     let (fast, slow) = (

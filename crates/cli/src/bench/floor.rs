@@ -12,7 +12,8 @@ use super::Line;
 pub fn lines(lines: &mut Vec<Line>) {
     for threads in [1, 2] {
         let bandwidth = floor::bandwidth(threads, ARRAY_BYTES, 5);
-        let f = floor::floor(bandwidth);
+        let f = floor::floor(bandwidth, &floor::query_streams());
+        let kept = floor::floor(bandwidth, &floor::query_streams_kept_in_cell_order());
         let query: Vec<String> = lines
             .iter()
             .filter(|l| l.group.starts_with("whole query") && l.n == 1_000_000)
@@ -37,7 +38,11 @@ pub fn lines(lines: &mut Vec<Line>) {
                 f.bytes_with_write_allocate,
                 bandwidth.read / 1e9,
                 bandwidth.copy / 1e9
-            ) + &query,
+            ) + &query
+                + &format!(
+                    "; kept in cell order across frames: {} B/sphere, {:.1} – {:.1} ns",
+                    kept.bytes, kept.low_ns, kept.high_ns
+                ),
             threads,
             ..Line::default()
         });
