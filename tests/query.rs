@@ -86,7 +86,8 @@ fn with_statics(spheres: SphereStore, side: f32) -> Scene {
 fn random_gases_match_brute_force() {
     for (k, &(n, phi)) in [(300, 0.05), (800, 0.3), (1500, 0.3)].iter().enumerate() {
         for radii in [(1.0, 1.0), (0.01, 10.0)] {
-            for t_max in [0.5, 10.0] {
+            // From no time at all to no limit: the last runs the successive windows.
+            for t_max in [0.0, 0.5, 10.0, 1e4, f32::INFINITY] {
                 let spheres = gas(n, phi, radii, 10 + k as u64);
                 let scene = with_statics(spheres.clone(), 20.0);
                 check(
@@ -197,7 +198,13 @@ fn adversarial_scenes_match_brute_force() {
 #[test]
 fn the_query_is_the_same_for_any_thread_count() {
     // Above the grid's and the batch driver's parallel thresholds.
-    let scene = with_statics(gas(40_000, 0.3, (1.0, 1.0), 5), 30.0);
+    let busy = with_statics(gas(40_000, 0.3, (1.0, 1.0), 5), 30.0);
+    // An infinite window: successive windows, then rows for the spheres still open.
+    // (No shapes: a container would catch every sphere.)
+    let open = Scene {
+        spheres: gas(4000, 0.02, (0.5, 2.0), 6),
+        ..Scene::default()
+    };
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -206,33 +213,67 @@ fn the_query_is_the_same_for_any_thread_count() {
         pool.install(|| {
             let mut query = SceneQuery::new();
             let options = QueryOptions::new(0.5, Accuracy::Stable).unwrap();
-            let first = query.first_contacts(&scene, options);
-            let all = query.all_contacts(&scene, options);
-            (bits_first(&first), bits_events(&all))
+            let first = query.first_contacts(&busy, options);
+            let all = query.all_contacts(&busy, options);
+            let mut compact = Vec::new();
+            query.first_contacts_compact_into(&busy, options, &mut compact);
+            let unbounded = QueryOptions::new(f32::INFINITY, Accuracy::Stable).unwrap();
+            let far = query.first_contacts(&open, unbounded);
+            let compact: Vec<u64> = compact.iter().map(|c| c.to_bits()).collect();
+            (bits_first(&first), bits_events(&all), compact, bits_first(&far))
         })
     };
     let one = run(1);
     assert!(one.1.len() > 1000, "a busy scene: {} contacts", one.1.len());
-    assert_eq!(one, run(2));
+    let never = one.3.iter().filter(|c| c.is_none()).count();
+    assert!(never > 0 && never < 4000, "{never} of 4000 never touch");
+    for threads in [2, 7] {
+        assert!(one == run(threads), "{threads} threads differ from one");
+    }
+    let unbounded = QueryOptions::new(f32::INFINITY, Accuracy::Stable).unwrap();
+    let brute = brute_force::first_contacts(&open, unbounded);
+    assert_eq!(one.3, bits_first(&brute), "an infinite window against the brute force");
+}
+
+#[test]
+fn the_compact_answer_is_the_full_one() {
+    let scene = with_statics(gas(3000, 0.3, (0.2, 2.0), 8), 20.0);
+    let mut query = SceneQuery::new();
+    for t_max in [0.0, 0.5, 3.0, f32::INFINITY] {
+        let options = QueryOptions::new(t_max, Accuracy::Stable).unwrap();
+        let mut compact = Vec::new();
+        query.first_contacts_compact_into(&scene, options, &mut compact);
+        let full = query.first_contacts(&scene, options.with_geometry(true));
+        let mut geometry = Vec::new();
+        spheresweep::query::geometry_of(&scene, &compact, &mut geometry);
+        for (i, ((c, f), g)) in compact.iter().zip(&full).zip(&geometry).enumerate() {
+            assert_eq!(c.get(), f.map(|f| (f.time, f.body)), "t {t_max} sphere {i}");
+            assert_eq!(*g, f.and_then(|f| f.geometry), "t {t_max} sphere {i}");
+        }
+    }
 }
 
 #[test]
 fn a_query_reused_on_a_moved_scene_matches_a_fresh_one() {
+    // Many frames: the grid re-sorts from the last frame's cell order, the answers must not
+    // depend on it. Spheres leave their cells, some cross several, the count stays.
     let mut spheres = gas(3000, 0.3, (1.0, 1.0), 9);
     let mut query = SceneQuery::new();
     let options = QueryOptions::new(0.5, Accuracy::Stable).unwrap();
-    for step in 0..3 {
-        let scene = Scene {
-            spheres: spheres.clone(),
-            ..Scene::default()
-        };
+    for step in 0..12 {
+        let scene = with_statics(spheres.clone(), 20.0);
         let reused = query.first_contacts(&scene, options);
         let fresh = SceneQuery::new().first_contacts(&scene, options);
         assert_eq!(bits_first(&reused), bits_first(&fresh), "step {step}");
-        // Move every sphere a little.
+        if step % 4 == 3 {
+            let brute = brute_force::first_contacts(&scene, options);
+            assert_eq!(bits_first(&reused), bits_first(&brute), "step {step}");
+        }
+        // Move every sphere a little, and every tenth frame a few of them far.
+        let dt = if step % 10 == 9 { 5.0 } else { 0.1 };
         for i in 0..spheres.len() {
             let s = spheres.get(i).unwrap();
-            spheres.set_centre(i, s.centre_at(0.1).to_array()).unwrap();
+            spheres.set_centre(i, s.centre_at(dt).to_array()).unwrap();
         }
     }
 }

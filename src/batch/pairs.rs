@@ -180,6 +180,47 @@ pub(crate) fn listed_times<G: Gather>(
     Ok(())
 }
 
+/// The pairs of `pairs` (indices into `store`, checked by the caller) that touch in the
+/// window: `hit(pair, time)` for each, in order; the same times, bit for bit, as
+/// [`pair_times`]. One thread, no output buffer: the fused pass of the scene query calls it on
+/// the few thousand pairs the broad phase has just found.
+#[inline]
+pub(crate) fn listed_hits<G: Gather>(
+    store: &G,
+    pairs: &[[u32; 2]],
+    options: QueryOptions,
+    hit: &mut impl FnMut([u32; 2], f32),
+) {
+    fn run<L: Lanes, S: Solver, G: Gather>(
+        store: &G,
+        pairs: &[[u32; 2]],
+        t: f32,
+        hit: &mut impl FnMut([u32; 2], f32),
+    ) {
+        let t_max = L::splat(t);
+        let none = L::splat(f32::INFINITY);
+        for group in pairs.chunks(L::WIDTH) {
+            let gather = |k: usize| store.gather::<L>(group.iter().map(move |p| p[k] as usize));
+            let reload = || [gather(0), gather(1)];
+            let t = sphere_pair::<L, S>(&gather(0), &gather(1), t_max, reload);
+            if !t.lt(none).any() {
+                continue;
+            }
+            let mut times = [0.0f32; 8];
+            t.store(&mut times[..L::WIDTH]);
+            for (&pair, &time) in group.iter().zip(&times) {
+                if time < f32::INFINITY {
+                    hit(pair, time);
+                }
+            }
+        }
+    }
+    with_mode!(
+        options.accuracy(),
+        run::<G>(store, pairs, options.t_max(), hit)
+    );
+}
+
 /// Time of impact of `sphere` with every sphere of `block`, into `out`.
 ///
 /// # Errors

@@ -81,6 +81,40 @@ impl Grid {
             .build(grid::SphereBlocks::of(store), t_max, options);
     }
 
+    /// The cells and the cell order for the spheres of `store` over `[0, t_max]`, without the
+    /// list of pairs: [`visit_pairs`](Self::visit_pairs) then hands the pairs on a few
+    /// thousand at a time, so memory stays linear in the number of spheres however long the
+    /// window. Same panics as [`build`](Self::build).
+    ///
+    /// ```
+    /// # use spheresweep::{Sphere, SphereStore, broad::{Grid, GridOptions}};
+    /// # let store = SphereStore::from_spheres(&[
+    /// #     Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?,
+    /// #     Sphere::new([5.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// #     Sphere::new([50.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+    /// # ]);
+    /// use std::sync::Mutex;
+    /// let mut grid = Grid::new();
+    /// grid.build_cells(&store, 4.0, GridOptions::default());
+    /// let seen = Mutex::new(Vec::new());
+    /// grid.visit_pairs(&|pairs| seen.lock().unwrap().extend_from_slice(pairs));
+    /// grid.build(&store, 4.0, GridOptions::default());
+    /// assert_eq!(seen.into_inner().unwrap(), grid.pairs()); // the same pairs
+    /// # Ok::<(), spheresweep::ShapeError>(())
+    /// ```
+    pub fn build_cells(&mut self, store: &SphereStore, t_max: f32, options: GridOptions) {
+        self.inner
+            .build_cells(grid::SphereBlocks::of(store), t_max, options);
+    }
+
+    /// Every candidate pair of the last [`build_cells`](Self::build_cells) (or
+    /// [`build`](Self::build)) once, as positions in [`order`](Self::order), handed to
+    /// `visit` in batches of a few thousand, from rayon's threads when the build ran there.
+    /// The batches' order may depend on the thread count; the set of pairs does not.
+    pub fn visit_pairs(&self, visit: &(dyn Fn(&[[u32; 2]]) + Sync)) {
+        self.inner.visit_pairs(visit);
+    }
+
     /// Sphere indices in cell order.
     ///
     /// ```

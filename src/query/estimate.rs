@@ -1,20 +1,21 @@
 //! What a whole-scene query will hold at its peak, estimated before it runs, so that a caller
 //! can refuse one too large for memory instead of being aborted part way through.
 //!
-//! The query keeps every candidate sphere pair and its time (see the module docs of
-//! [`crate::query`]): with a window long enough that most swept boxes overlap, and always with
-//! an infinite window, that is quadratic in the number of spheres. The estimate counts:
+//! The query never holds its candidate sphere pairs (its fused pass tests them a few thousand
+//! at a time, see [`crate::query`]), so its memory is [`PER_SPHERE`] bytes a sphere whatever
+//! the window, plus, for [`all_contacts`](super::all_contacts), the contacts it returns. The
+//! estimate counts:
 //!
-//! - **candidate pairs**: exactly `n (n − 1) / 2` for an infinite window (no cull); otherwise
-//!   from a sample of [`SAMPLE`] spheres spread evenly over the store, each tested against
-//!   every sphere with the broad phase's overlap rule (swept boxes overlapping on all three
-//!   axes), scaled to all `n` (exact when `n <= SAMPLE`);
+//! - **candidate pairs** (the work, not memory): exactly `n (n − 1) / 2` for an infinite
+//!   window (an upper bound: its successive windows test fewer); otherwise from a sample of
+//!   [`SAMPLE`] spheres spread evenly over the store, each tested against every sphere with
+//!   the broad phase's overlap rule (swept boxes overlapping on all three axes), scaled to all
+//!   `n` (exact when `n <= SAMPLE`);
 //! - **contacts** (for [`all_contacts`](super::all_contacts)): the fraction of up to
 //!   [`KERNEL_SAMPLE`] sampled candidate pairs that the kernel finds touching, times the
 //!   candidates, plus one per sphere and shape (the most a static contact list can hold);
-//! - **bytes**: [`PER_SPHERE`] a sphere, [`PER_PAIR_GRID`] (or [`PER_PAIR_ALL`] without the
-//!   grid) a candidate pair, and for every contact two [`ContactEvent`]s (the list grows by
-//!   doubling).
+//! - **bytes**: [`PER_SPHERE`] a sphere and, for every contact, two [`ContactEvent`]s (the
+//!   list grows by doubling).
 //!
 //! ```
 //! use spheresweep::{QueryOptions, query::estimate};
@@ -34,14 +35,10 @@ use crate::store::{PAD, SphereStore};
 pub const SAMPLE: usize = 128;
 /// Sampled candidate pairs whose time the kernel computes to estimate the share that touch.
 pub const KERNEL_SAMPLE: usize = 1 << 14;
-/// Bytes a sphere costs the query whatever the window (the grid's keys, order, boxes and
-/// cells, the packed and sorted copies, the reductions and the result).
+/// Bytes a sphere costs the query whatever the window: the grid's keys, order, boxes and
+/// cells, the packed and sorted copies, the slots and the answer; a bound on
+/// [`SceneQuery::heap_bytes`](super::SceneQuery::heap_bytes) per sphere, checked by a test.
 pub const PER_SPHERE: usize = 320;
-/// Bytes a candidate pair costs with the grid: its position pair in the grid and in the
-/// query (8 + 8), its time (4).
-pub const PER_PAIR_GRID: usize = 20;
-/// Bytes a candidate pair costs without the grid (infinite window): position pair and time.
-pub const PER_PAIR_ALL: usize = 12;
 
 /// A query's estimated size (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,15 +109,9 @@ pub fn estimate(scene: &Scene, options: QueryOptions, every_contact: bool) -> Es
     } else {
         0
     };
-    let per_pair = if t.is_finite() {
-        PER_PAIR_GRID
-    } else {
-        PER_PAIR_ALL
-    } as u64;
     let event = 2 * std::mem::size_of::<ContactEvent>() as u64;
     let bytes = (n as u64)
         .saturating_mul(PER_SPHERE as u64)
-        .saturating_add(candidate_pairs.saturating_mul(per_pair))
         .saturating_add(contacts.saturating_mul(event));
     Estimate {
         candidate_pairs,
@@ -218,16 +209,31 @@ mod tests {
     }
 
     #[test]
-    fn an_infinite_window_counts_every_pair() {
+    fn an_infinite_window_counts_every_pair_but_holds_none() {
         let scene = gas(1000, 20.0, 5);
         let e = estimate(&scene, options(f32::INFINITY), false);
         assert_eq!(e.candidate_pairs, 1000 * 999 / 2);
-        assert_eq!(
-            e.bytes,
-            1000 * PER_SPHERE as u64 + e.candidate_pairs * PER_PAIR_ALL as u64
-        );
+        assert_eq!(e.bytes, 1000 * PER_SPHERE as u64);
         let mut query = SceneQuery::new();
         query.first_contacts(&scene, options(f32::INFINITY));
-        assert_eq!(query.stats().candidate_pairs as u64, e.candidate_pairs);
+        let tested = query.stats().candidate_pairs as u64;
+        assert!(tested <= e.candidate_pairs * 2, "{tested} pairs tested");
+        assert!(
+            query.heap_bytes() as u64 <= e.bytes,
+            "{} bytes held",
+            query.heap_bytes()
+        );
+    }
+
+    #[test]
+    fn the_bytes_per_sphere_bound_the_query_at_every_window() {
+        for (n, t) in [(3000, 0.5), (3000, 30.0), (20_000, 0.5), (20_000, 1e6)] {
+            let scene = gas(n, 20.0 * (n as f32 / 1000.0).cbrt(), 9);
+            let mut query = SceneQuery::new();
+            query.first_contacts(&scene, options(t));
+            query.all_contacts(&scene, options(t.min(1.0)));
+            let held = query.heap_bytes();
+            assert!(held <= n * PER_SPHERE, "n {n} t {t}: {held} bytes held");
+        }
     }
 }

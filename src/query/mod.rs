@@ -2,31 +2,40 @@
 //! every contact in the window (each pair once), with geometry only when asked.
 //!
 //! Pipeline, one named stage each (docs/ARCHITECTURE.md):
-//! 1. **broad phase**: a uniform grid over the spheres' swept boxes ([`crate::broad`]) gives
-//!    every candidate sphere pair once, as positions in cell order;
-//! 2. **sort**: the spheres are copied into that order, so the narrow phase reads neighbours
-//!    from nearby memory;
-//! 3. **narrow phase**: the candidate pairs go to the 8-wide kernels as index lanes
-//!    ([`batch::pair_times`]);
+//! 1. **cells**: a uniform grid over the spheres' swept boxes ([`crate::broad`]) puts the
+//!    spheres in cell order;
+//! 2. **records**: the spheres are copied into that order, so the narrow phase reads
+//!    neighbours from nearby memory;
+//! 3. **fused pairs**: the grid hands its candidate pairs on a few thousand at a time and the
+//!    8-wide pair kernel runs on them at once; each hit goes straight to the two spheres'
+//!    slots (the earliest, as a [`CompactContact`]) or to the contact list ([`fused`]);
 //! 4. **statics**: every sphere against every plane, cylinder and container, 8 at a time; a
 //!    scene without shapes of a kind never runs that kind's kernel;
-//! 5. **reduce**: the earliest per sphere (ties: spheres, then planes, cylinders, containers,
-//!    each by index), or every contact sorted by time;
+//! 5. **answer**: the slots in the caller's order (8 bytes a sphere), or every contact sorted
+//!    by time;
 //! 6. **geometry**: points and normals for the reported contacts, only if asked for.
 //!
-//! An infinite window has unbounded swept boxes: no broad phase can cull it, so every pair is
-//! a candidate (quadratic in the number of spheres).
+//! No stage holds a list of all candidate pairs, so memory is linear in the number of spheres
+//! whatever the window (plus the contacts themselves for [`all_contacts`]). An infinite window
+//! has unbounded swept boxes: it is answered by successive finite windows, then the brute
+//! force's rows for the spheres still open ([`unbounded`]), with the brute force's bits.
+//! Every stage runs on rayon; the answers are the same bits for any thread count.
 
 pub mod brute_force;
+mod compact;
 pub mod estimate;
+mod fused;
+mod unbounded;
+
+pub use compact::{CompactContact, MAX_INDEX};
 
 use crate::batch::{self, FirstContact, QueryOptions, StaticShape};
 use crate::broad::{Grid, GridOptions};
 use crate::contact::{Body, Contact, contact_at};
 use crate::scene::Scene;
-use crate::shape::ShapeKind;
 use crate::statics::{OfKind, Visitor};
 use crate::store::{PackedSpheres, SphereStore};
+use compact::Slots;
 
 /// One contact in the window: sphere `sphere` touches `other` at `time`. For two spheres,
 /// `sphere` is the lower index and each pair appears once.
@@ -113,9 +122,12 @@ pub struct SceneQuery {
     options: GridOptions,
     packed: PackedSpheres,
     sorted: PackedSpheres,
-    pairs: Vec<[u32; 2]>,
+    /// Each sphere's earliest contact with a sphere, by cell position.
+    slots: Slots,
+    /// One static shape's times for every sphere.
     times: Vec<f32>,
-    earliest: Vec<(f32, Body)>,
+    /// The compact answer behind [`first_contacts_into`](Self::first_contacts_into).
+    compact: Vec<CompactContact>,
     stats: QueryStats,
 }
 
@@ -250,46 +262,17 @@ impl SceneQuery {
         options: QueryOptions,
         best: &mut Vec<Option<FirstContact>>,
     ) {
-        let n = scene.spheres.len();
-        self.sphere_pairs(scene, options);
-        // Reduce in cell order, where a pair's two spheres sit near each other in memory, on
-        // compact (time, body) records; then scatter once to the scene's order.
-        let none = (f32::INFINITY, Body::new(ShapeKind::Sphere, u32::MAX));
-        self.earliest.clear();
-        self.earliest.resize(n, none);
-        for (&[p, q], &time) in self.pairs.iter().zip(&self.times) {
-            if !time.is_finite() {
-                continue;
-            }
-            let (i, j) = (self.index(p), self.index(q));
-            keep_earlier(
-                &mut self.earliest[p as usize],
-                time,
-                Body::new(ShapeKind::Sphere, j),
-            );
-            keep_earlier(
-                &mut self.earliest[q as usize],
-                time,
-                Body::new(ShapeKind::Sphere, i),
-            );
-        }
+        let mut compact = std::mem::take(&mut self.compact);
+        self.first_contacts_compact_into(scene, options, &mut compact);
         best.clear();
-        best.resize(n, None);
-        for (p, &(time, body)) in self.earliest.iter().enumerate() {
-            if time.is_finite() {
-                best[self.index(p as u32) as usize] = Some(FirstContact {
-                    time,
-                    body,
-                    geometry: None,
-                });
-            }
-        }
-        let times_only = options.with_geometry(false);
-        scene.statics.visit(&mut MergeStatic {
-            best,
-            store: &scene.spheres,
-            options: times_only,
-        });
+        best.extend(compact.iter().map(|c| {
+            c.get().map(|(time, body)| FirstContact {
+                time,
+                body,
+                geometry: None,
+            })
+        }));
+        self.compact = compact;
         if options.geometry() {
             for (i, slot) in best.iter_mut().enumerate() {
                 if let Some(hit) = slot {
@@ -297,6 +280,49 @@ impl SceneQuery {
                 }
             }
         }
+    }
+
+    /// Each sphere's earliest contact in 8 bytes ([`CompactContact`]), into a vector the
+    /// caller keeps (cleared, then one entry per sphere): the fastest form of the answer.
+    /// Geometry, if wanted, comes from [`geometry_of`] for just the contacts that need it.
+    ///
+    /// # Panics
+    /// If a kind of static shape has more than [`MAX_INDEX`] shapes.
+    ///
+    /// ```
+    /// use spheresweep::{Body, QueryOptions, ShapeKind, query::{CompactContact, SceneQuery}};
+    /// let scene = spheresweep::scene::demo();
+    /// let (mut query, mut hits) = (SceneQuery::new(), Vec::new());
+    /// query.first_contacts_compact_into(&scene, QueryOptions::default(), &mut hits);
+    /// assert_eq!(hits.len(), scene.spheres.len());
+    /// assert_eq!(hits[2].body(), Some(Body::new(ShapeKind::Plane, 0)));
+    /// assert_eq!(std::mem::size_of::<CompactContact>(), 8);
+    /// ```
+    pub fn first_contacts_compact_into(
+        &mut self,
+        scene: &Scene,
+        options: QueryOptions,
+        out: &mut Vec<CompactContact>,
+    ) {
+        let store = &scene.spheres;
+        let n = store.len();
+        out.clear();
+        out.resize(n, CompactContact::NONE);
+        let t_max = options.t_max();
+        let candidates = if n < 2 {
+            0
+        } else if t_max.is_finite() {
+            self.sphere_firsts_in_window(store, options, out)
+        } else {
+            self.sphere_firsts_unbounded(store, options, out)
+        };
+        self.record_stats(n, candidates, t_max);
+        scene.statics.visit(&mut OfferStatics {
+            out,
+            times: &mut self.times,
+            store,
+            options: options.with_geometry(false),
+        });
     }
 
     /// Every contact in the window: each sphere pair once (the lower index first), and every
@@ -319,25 +345,21 @@ impl SceneQuery {
     /// # Ok::<(), spheresweep::Error>(())
     /// ```
     pub fn all_contacts(&mut self, scene: &Scene, options: QueryOptions) -> Vec<ContactEvent> {
-        self.sphere_pairs(scene, options);
-        let mut events: Vec<ContactEvent> = self
-            .pairs
-            .iter()
-            .zip(&self.times)
-            .filter(|(_, t)| t.is_finite())
-            .map(|(&[p, q], &time)| {
-                let (i, j) = (self.index(p), self.index(q));
-                ContactEvent {
-                    time,
-                    sphere: i.min(j),
-                    other: Body::new(ShapeKind::Sphere, i.max(j)),
-                    geometry: None,
-                }
-            })
-            .collect();
+        let store = &scene.spheres;
+        let n = store.len();
+        let mut events = Vec::new();
+        let t_max = options.t_max();
+        let candidates = if n < 2 {
+            0
+        } else if t_max.is_finite() {
+            self.sphere_contacts_in_window(store, options, &mut events)
+        } else {
+            self.sphere_contacts_unbounded(store, options, &mut events)
+        };
+        self.record_stats(n, candidates, t_max);
         scene.statics.visit(&mut StaticEvents {
             events: &mut events,
-            store: &scene.spheres,
+            store,
             options,
         });
         sort_events(&mut events);
@@ -349,48 +371,15 @@ impl SceneQuery {
         events
     }
 
-    /// The scene index of the sphere at position `p` of the last broad phase.
-    #[inline]
-    fn index(&self, p: u32) -> u32 {
-        if self.stats.grid {
-            self.grid.order()[p as usize]
-        } else {
-            p
-        }
-    }
-
-    /// Stages 1–3 for sphere pairs: fills `self.pairs` (positions, see [`Self::index`]) and
-    /// `self.times`.
-    fn sphere_pairs(&mut self, scene: &Scene, options: QueryOptions) {
-        let store = &scene.spheres;
-        let n = store.len();
-        let t_max = options.t_max();
-        let use_grid = t_max.is_finite() && n >= 2;
-        self.pairs.clear();
-        if use_grid {
-            self.grid.build(store, t_max, self.options);
-            self.pairs.extend_from_slice(self.grid.pairs());
-            // Packed records first (one pass in order), then gathered into cell order: one
-            // cache line per scattered sphere instead of the blocks' seven.
-            self.packed.pack(store);
-            self.sorted.permute_from(&self.packed, self.grid.order());
-        } else {
-            // No cull: every pair, in index order.
-            for i in 0..n as u32 {
-                self.pairs.extend((i + 1..n as u32).map(|j| [i, j]));
-            }
-            self.sorted.pack(store);
-        }
-        self.times.clear();
-        self.times.resize(self.pairs.len(), 0.0);
-        batch::pairs::listed_times(&self.sorted, &self.pairs, options, &mut self.times)
-            .expect("the broad phase's positions are in range and one slot per pair");
+    /// What the sphere stages did, for [`stats`](Self::stats).
+    fn record_stats(&mut self, n: usize, candidates: usize, t_max: f32) {
+        let grid = t_max.is_finite() && n >= 2;
         self.stats = QueryStats {
             spheres: n,
-            candidate_pairs: self.pairs.len(),
-            cell_size: if use_grid { self.grid.cell_size() } else { 0.0 },
-            oversize: if use_grid { self.grid.oversize() } else { 0 },
-            grid: use_grid,
+            candidate_pairs: candidates,
+            cell_size: if grid { self.grid.cell_size() } else { 0.0 },
+            oversize: if grid { self.grid.oversize() } else { 0 },
+            grid,
         };
     }
 }
@@ -400,14 +389,6 @@ impl SceneQuery {
 #[inline]
 fn earlier(time: f32, body: Body, than_time: f32, than_body: Body) -> bool {
     time < than_time || (time == than_time && body < than_body)
-}
-
-/// Keeps the earlier contact on a compact record (see [`earlier`]).
-#[inline]
-fn keep_earlier(slot: &mut (f32, Body), time: f32, body: Body) {
-    if earlier(time, body, slot.0, slot.1) {
-        *slot = (time, body);
-    }
 }
 
 /// Keeps the earlier contact (see [`earlier`]).
@@ -422,22 +403,34 @@ fn offer(slot: &mut Option<FirstContact>, time: f32, body: Body) {
     }
 }
 
-/// Each sphere's earliest contact with each kind of static shape, offered to its slot.
-struct MergeStatic<'a> {
-    best: &'a mut [Option<FirstContact>],
+/// Each sphere's contacts with each static shape, offered to its compact slot (one pass of
+/// the kernel per shape, the times into a reused buffer).
+struct OfferStatics<'a> {
+    out: &'a mut [CompactContact],
+    times: &'a mut Vec<f32>,
     store: &'a SphereStore,
     options: QueryOptions,
 }
 
-impl<P> Visitor<P> for MergeStatic<'_> {
+impl<P> Visitor<P> for OfferStatics<'_> {
     fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
-        if shapes.is_empty() {
-            return;
-        }
-        let hits = batch::earliest_static_contacts(self.store, shapes.shapes(), self.options);
-        for (slot, hit) in self.best.iter_mut().zip(hits) {
-            if let Some(hit) = hit {
-                offer(slot, hit.time, hit.body);
+        assert!(
+            shapes.len() <= MAX_INDEX as usize + 1,
+            "{} {}s: a first-contact query takes at most {} of a kind",
+            shapes.len(),
+            K::KIND.name(),
+            MAX_INDEX as u64 + 1
+        );
+        self.times.clear();
+        self.times.resize(self.store.len(), 0.0);
+        for (j, shape) in shapes.shapes().iter().enumerate() {
+            batch::static_times(self.store, shape, self.options, self.times)
+                .expect("one slot per sphere");
+            let body = Body::new(K::KIND, j as u32);
+            for (slot, &time) in self.out.iter_mut().zip(self.times.iter()) {
+                if time < f32::INFINITY {
+                    *slot = (*slot).min(CompactContact::key(time, body));
+                }
             }
         }
     }
@@ -497,6 +490,25 @@ fn geometry(scene: &Scene, sphere: u32, body: Body, time: f32) -> Contact {
         .expect("a sphere of the scene");
     let other = scene.body(body).expect("a body the query found");
     contact_at(&s, &other, time.into())
+}
+
+/// Points and normals of compact answers ([`SceneQuery::first_contacts_compact_into`]) into
+/// `out` (cleared, one entry per answer, `None` for no contact): geometry only where asked.
+///
+/// ```
+/// use spheresweep::{QueryOptions, query::{SceneQuery, geometry_of}};
+/// let scene = spheresweep::scene::demo();
+/// let (mut hits, mut points) = (Vec::new(), Vec::new());
+/// SceneQuery::new().first_contacts_compact_into(&scene, QueryOptions::default(), &mut hits);
+/// geometry_of(&scene, &hits, &mut points);
+/// assert_eq!(points[2].unwrap().point.z, -10.0); // sphere 2 lands on the floor
+/// ```
+pub fn geometry_of(scene: &Scene, hits: &[CompactContact], out: &mut Vec<Option<Contact>>) {
+    out.clear();
+    out.extend(hits.iter().enumerate().map(|(i, c)| {
+        c.get()
+            .map(|(time, body)| geometry(scene, i as u32, body, time))
+    }));
 }
 
 /// For every sphere of `scene`, its earliest contact: [`SceneQuery::first_contacts`] on a new

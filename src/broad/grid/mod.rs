@@ -208,6 +208,10 @@ pub struct Grid {
     bbox_parts: Vec<([f32; 3], [f32; 3])>,
     items: Vec<Item>,
     outs: Vec<(Vec<[u32; 2]>, usize)>,
+    /// One pair buffer per worker for [`visit_pairs`](Grid::visit_pairs).
+    scratch: Vec<std::sync::Mutex<Vec<[u32; 2]>>>,
+    /// Whether the last build's passes ran on rayon.
+    par: bool,
     cell_size: f32,
     dims: [u32; 3],
     n_grid: usize,
@@ -305,6 +309,11 @@ impl Grid {
             + self.trim_hi.iter().map(|h| h.capacity() * 4).sum::<usize>();
         b += self.boxes.iter().map(|v| v.capacity() * 4).sum::<usize>();
         b += self.outs.iter().map(|o| o.0.capacity() * 8).sum::<usize>();
+        b += self
+            .scratch
+            .iter()
+            .map(|m| m.lock().unwrap_or_else(|e| e.into_inner()).capacity() * 8)
+            .sum::<usize>();
         b
     }
 
@@ -327,8 +336,37 @@ impl Grid {
     /// If the columns differ in length, `t_max` is not finite and `>= 0`, a given cell size is
     /// not finite and `> 0`, or there are more than about `2^30` spheres.
     pub fn build(&mut self, cols: SphereBlocks<'_>, t_max: f32, opts: GridOptions) {
+        if let Some(input) = self.cells_of(cols, t_max, opts) {
+            self.find_pairs(&input);
+        }
+    }
+
+    /// Steps 1–5 of [`build`](Grid::build): the cells and the cell order, no pairs. Then
+    /// [`visit_pairs`](Grid::visit_pairs) hands the pairs on in small batches instead of a
+    /// list, so memory stays linear in `N` whatever the window. Same panics as `build`.
+    pub fn build_cells(&mut self, cols: SphereBlocks<'_>, t_max: f32, opts: GridOptions) {
+        if let Some(input) = self.cells_of(cols, t_max, opts) {
+            self.plan_pair_work(input.n, input.par);
+        }
+    }
+
+    /// Every candidate pair of the last [`build_cells`](Grid::build_cells) exactly once, as
+    /// positions in [`order`](Grid::order), a few thousand at a time (see the pair phase).
+    pub fn visit_pairs(&self, visit: &(dyn Fn(&[[u32; 2]]) + Sync)) {
+        let n = self.order.len();
+        if n > 0 && !self.scratch.is_empty() {
+            self.visit_pairs_of(n, self.par, visit);
+        }
+    }
+
+    fn cells_of<'a>(
+        &mut self,
+        cols: SphereBlocks<'a>,
+        t_max: f32,
+        opts: GridOptions,
+    ) -> Option<BuildInput<'a>> {
         if !self.start(&cols, t_max, opts) {
-            return;
+            return None;
         }
         let n = cols.len();
         let input = BuildInput {
@@ -345,7 +383,8 @@ impl Grid {
         self.gather_sorted_boxes(&input);
         std::mem::swap(&mut self.order, &mut self.order_tmp);
         self.n_grid = n_grid;
-        self.find_pairs(&input);
+        self.par = input.par;
+        Some(input)
     }
 
     /// Checks the arguments and forgets the last pairs; keeps the previous order when the

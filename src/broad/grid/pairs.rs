@@ -7,6 +7,23 @@ use wide::{f32x8, u32x8};
 
 use super::{BuildInput, Grid, OVER_CHUNK, PAIR_CHUNK};
 
+/// The sorted boxes, keys and cell tables of the last build of `$n` spheres, as a [`View`]
+/// (a macro so that it borrows only those fields of the grid).
+macro_rules! view {
+    ($grid:expr, $n:expr) => {{
+        let (px, py) = ($grid.dims[0] as usize + 2, $grid.dims[1] as usize + 2);
+        View {
+            b: [0, 1, 2, 3, 4, 5].map(|k| &$grid.boxes[k][..$n + 8]),
+            skey: &$grid.skey[..$n],
+            cs: &$grid.cs,
+            px,
+            pxy: px * py,
+            sparse: $grid.sparse,
+            hrows: &$grid.hrows,
+        }
+    }};
+}
+
 /// A unit of pair-phase work: grid positions `start..end` (when `q == u32::MAX`), or
 /// oversize position `q` against positions `start..end`.
 #[derive(Clone, Copy)]
@@ -21,18 +38,9 @@ impl Grid {
     /// is parallel, each chunk into its own buffer, concatenated in chunk order).
     pub(super) fn find_pairs(&mut self, input: &BuildInput<'_>) {
         let n = input.n;
-        self.pair_items(n);
-        let (px, py) = (self.dims[0] as usize + 2, self.dims[1] as usize + 2);
+        self.plan_pair_work(n, input.par);
         let items = &self.items;
-        let view = View {
-            b: [0, 1, 2, 3, 4, 5].map(|k| &self.boxes[k][..n + 8]),
-            skey: &self.skey[..n],
-            cs: &self.cs,
-            px,
-            pxy: px * py,
-            sparse: self.sparse,
-            hrows: &self.hrows,
-        };
+        let view = view!(self, n);
         if input.par {
             if self.outs.len() < items.len() {
                 self.outs.resize_with(items.len(), Default::default);
@@ -45,7 +53,7 @@ impl Grid {
                         buf: &mut o.0,
                         len: 0,
                     };
-                    view.item(*it, &mut out);
+                    view.item(*it, &mut out, &mut Flush::never());
                     o.1 = out.len;
                 });
             let outs = &self.outs[..items.len()];
@@ -61,9 +69,52 @@ impl Grid {
                 len: 0,
             };
             for it in items.iter() {
-                view.item(*it, &mut out);
+                view.item(*it, &mut out, &mut Flush::never());
             }
             self.npairs = out.len;
+        }
+    }
+
+    /// Step 6 without a list: the same pairs, handed to `visit` a few thousand at a time from
+    /// per-thread buffers (each at most [`FLUSH_AT`] plus one sphere's pairs), so the memory
+    /// does not grow with the number of pairs. On rayon when the build was parallel; every
+    /// pair is visited exactly once, in an order that may depend on the thread count.
+    pub(super) fn visit_pairs_of(&self, n: usize, par: bool, visit: &(dyn Fn(&[[u32; 2]]) + Sync)) {
+        let view = view!(self, n);
+        let run = |it: &Item, buf: &mut Vec<[u32; 2]>| {
+            let mut sink = |pairs: &[[u32; 2]]| visit(pairs);
+            let mut flush = Flush {
+                at: FLUSH_AT,
+                sink: Some(&mut sink),
+            };
+            let mut out = Out { buf, len: 0 };
+            view.item(*it, &mut out, &mut flush);
+            if out.len > 0 {
+                visit(&out.buf[..out.len]);
+            }
+        };
+        if par {
+            let scratch = &self.scratch;
+            self.items.par_iter().for_each(|it| {
+                let worker = rayon::current_thread_index().unwrap_or(0) % scratch.len();
+                let mut buf = scratch[worker].lock().unwrap_or_else(|e| e.into_inner());
+                run(it, &mut buf);
+            });
+        } else {
+            let mut buf = self.scratch[0].lock().unwrap_or_else(|e| e.into_inner());
+            for it in &self.items {
+                run(it, &mut buf);
+            }
+        }
+    }
+
+    /// The chunks of pair work and one pair buffer per worker (for
+    /// [`visit_pairs_of`](Self::visit_pairs_of)).
+    pub(super) fn plan_pair_work(&mut self, n: usize, par: bool) {
+        self.pair_items(n);
+        let workers = if par { rayon::current_num_threads() } else { 1 };
+        if self.scratch.len() < workers {
+            self.scratch.resize_with(workers, Default::default);
         }
     }
 
@@ -141,6 +192,39 @@ struct Out<'a> {
     len: usize,
 }
 
+/// Pairs a visiting pass buffers before handing them on (16 KB: they stay in L1/L2 for the
+/// narrow phase that reads them).
+pub(super) const FLUSH_AT: usize = 2048;
+
+/// Where full buffers go: to `sink` once `at` pairs are buffered (checked after each sphere, so
+/// a buffer holds at most `at` plus one or two spheres' pairs); never when listing.
+struct Flush<'s> {
+    at: usize,
+    sink: Option<&'s mut dyn FnMut(&[[u32; 2]])>,
+}
+
+impl Flush<'_> {
+    /// Listing: the buffer only grows.
+    fn never() -> Self {
+        Flush {
+            at: usize::MAX,
+            sink: None,
+        }
+    }
+
+    /// Hands the first `len` pairs of `buf` on if that is a full buffer; the new length.
+    #[inline(always)]
+    fn check(&mut self, buf: &[[u32; 2]], len: usize) -> usize {
+        if len < self.at {
+            return len;
+        }
+        if let Some(sink) = self.sink.as_mut() {
+            sink(&buf[..len]);
+        }
+        0
+    }
+}
+
 /// Grow `buf` to at least `need` entries.
 #[cold]
 #[inline(never)]
@@ -192,13 +276,13 @@ impl View<'_> {
         }
     }
 
-    fn item(&self, it: Item, out: &mut Out<'_>) {
+    fn item(&self, it: Item, out: &mut Out<'_>, flush: &mut Flush<'_>) {
         let (start, end) = (it.start as usize, it.end as usize);
         if it.q == u32::MAX {
             out.len = if self.sparse {
-                self.grid_range::<true>(start, end, out.buf, out.len)
+                self.grid_range::<true>(start, end, out.buf, out.len, flush)
             } else {
-                self.grid_range::<false>(start, end, out.buf, out.len)
+                self.grid_range::<false>(start, end, out.buf, out.len, flush)
             };
             return;
         }
@@ -229,6 +313,7 @@ impl View<'_> {
                 out.len += 1;
                 m &= m - 1;
             }
+            out.len = flush.check(out.buf, out.len);
             s += 8;
         }
     }
@@ -249,6 +334,7 @@ impl View<'_> {
         end: usize,
         buf: &mut Vec<[u32; 2]>,
         mut len: usize,
+        flush: &mut Flush<'_>,
     ) -> usize {
         let skey = self.skey;
         // All columns have length `n + 8`; clamping window starts to `n` (a no-op: positions
@@ -330,6 +416,7 @@ impl View<'_> {
                 if long {
                     len = self.long_rows::<SPARSE, 2>(p, ka, kb, buf, len);
                 }
+                len = flush.check(buf, len);
                 p += 2;
             } else {
                 let rows = self.rows::<SPARSE>(p, ka, ka);
@@ -354,6 +441,7 @@ impl View<'_> {
                 if long {
                     len = self.long_rows::<SPARSE, 1>(p, ka, ka, buf, len);
                 }
+                len = flush.check(buf, len);
                 p += 1;
             }
         }
