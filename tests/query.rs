@@ -220,7 +220,12 @@ fn the_query_is_the_same_for_any_thread_count() {
             let unbounded = QueryOptions::new(f32::INFINITY, Accuracy::Stable).unwrap();
             let far = query.first_contacts(&open, unbounded);
             let compact: Vec<u64> = compact.iter().map(|c| c.to_bits()).collect();
-            (bits_first(&first), bits_events(&all), compact, bits_first(&far))
+            (
+                bits_first(&first),
+                bits_events(&all),
+                compact,
+                bits_first(&far),
+            )
         })
     };
     let one = run(1);
@@ -232,7 +237,11 @@ fn the_query_is_the_same_for_any_thread_count() {
     }
     let unbounded = QueryOptions::new(f32::INFINITY, Accuracy::Stable).unwrap();
     let brute = brute_force::first_contacts(&open, unbounded);
-    assert_eq!(one.3, bits_first(&brute), "an infinite window against the brute force");
+    assert_eq!(
+        one.3,
+        bits_first(&brute),
+        "an infinite window against the brute force"
+    );
 }
 
 #[test]

@@ -167,7 +167,10 @@ mod tests {
             }
         }
         let plane = Body::new(ShapeKind::Plane, 1);
-        assert_eq!(CompactContact::key(-0.0, plane), CompactContact::key(0.0, plane));
+        assert_eq!(
+            CompactContact::key(-0.0, plane),
+            CompactContact::key(0.0, plane)
+        );
         for kind in ShapeKind::ALL {
             let b = Body::new(kind, 12345);
             assert_eq!(CompactContact::new(0.5, b).get(), Some((0.5, b)));

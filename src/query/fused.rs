@@ -137,7 +137,10 @@ mod tests {
         let mut grid = crate::broad::Grid::new();
         grid.build(&scene.spheres, 4.0, Default::default());
         assert_eq!(candidates, grid.pairs().len());
-        assert!(candidates > 20_000, "{candidates} pairs: more than ten buffers' worth");
+        assert!(
+            candidates > 20_000,
+            "{candidates} pairs: more than ten buffers' worth"
+        );
         let brute = super::super::brute_force::first_contacts(&scene, options);
         for (i, (c, b)) in firsts.iter().zip(&brute).enumerate() {
             assert_eq!(c.get(), b.map(|b| (b.time, b.body)), "sphere {i}");

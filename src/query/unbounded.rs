@@ -42,7 +42,11 @@ impl SceneQuery {
             let candidates = self.sphere_firsts_in_window(store, round, out);
             tested += candidates;
             let open = out.iter().filter(|c| !final_below(**c, window)).count();
-            stalled = if 10 * open > 9 * before { stalled + 1 } else { 0 };
+            stalled = if 10 * open > 9 * before {
+                stalled + 1
+            } else {
+                0
+            };
             before = open;
             let next = window * 2.0;
             if open == 0 || !next.is_finite() || stalled == STALLED_ROUNDS {
@@ -176,13 +180,13 @@ mod tests {
             crate::Sphere::new([1e4, 0.0, 0.0], [1e-6, 0.0, 0.0], 0.5, 1.0).unwrap(),
             crate::Sphere::new([1e4 + 3.0, 0.0, 0.0], [0.0; 3], 0.5, 1.0).unwrap(),
         ];
-        let spheres: Vec<_> = slow.into_iter().chain((2..n)
-            .map(|_| {
+        let spheres: Vec<_> = slow
+            .into_iter()
+            .chain((2..n).map(|_| {
                 let c = rng.cube(10.0);
                 let v = rng.direction() * rng.range(0.0, 2.0) + c * 0.1;
                 let r = rng.range(0.1, 0.4) as f32;
-                crate::Sphere::new(c.as_vec3().to_array(), v.as_vec3().to_array(), r, 1.0)
-                    .unwrap()
+                crate::Sphere::new(c.as_vec3().to_array(), v.as_vec3().to_array(), r, 1.0).unwrap()
             }))
             .collect();
         Scene {
@@ -201,7 +205,10 @@ mod tests {
                 SceneQuery::new().sphere_firsts_unbounded(&scene.spheres, options, &mut out);
                 let brute = super::super::brute_force::first_contacts(&scene, options);
                 let open = out.iter().filter(|c| c.is_none()).count();
-                assert!(n < 700 || (open > 0 && open < n), "{open} of {n} never touch");
+                assert!(
+                    n < 700 || (open > 0 && open < n),
+                    "{open} of {n} never touch"
+                );
                 let slow = out[0].get().expect("the slow pair meets");
                 assert!(slow.0 > 1e6 && slow.1.index == 1, "the slow pair: {slow:?}");
                 for (i, (c, b)) in out.iter().zip(&brute).enumerate() {

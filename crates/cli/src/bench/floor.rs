@@ -18,7 +18,14 @@ pub fn lines(lines: &mut Vec<Line>) {
             .iter()
             .filter(|l| l.group.starts_with("whole query") && l.n == 1_000_000)
             .filter(|l| l.threads == threads)
-            .map(|l| format!("{:.0}× ({})", l.ns / f.low_ns, phi_of(&l.group)))
+            .map(|l| {
+                let form = if l.name.contains("compact") {
+                    ", compact"
+                } else {
+                    ""
+                };
+                format!("{:.0}× ({}{form})", l.ns / f.low_ns, phi_of(&l.group))
+            })
             .collect();
         let query = if query.is_empty() {
             String::new()

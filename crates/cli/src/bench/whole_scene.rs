@@ -179,7 +179,8 @@ fn broad_phase(
 }
 
 /// The whole first-contact query (stable) on one and two threads against parry's `Bvh`
-/// incremental + `cast_shapes`, with the memory the query holds per sphere.
+/// incremental + `cast_shapes`, in both forms of the answer (`first_contacts_into`, 128 bytes
+/// per sphere; `first_contacts_compact_into`, 8), with the memory the query holds per sphere.
 fn query(
     lines: &mut Vec<Line>,
     spheres: SphereStore,
@@ -189,9 +190,6 @@ fn query(
     Timing { rounds, min }: Timing,
 ) {
     let n = spheres.len();
-    let group = format!(
-        "whole query: first contact per sphere (stable, uniform gas, phi {phi}, half a radius of travel)"
-    );
     let memory = memory_probe::measure(n, phi);
     let scene = Scene {
         spheres,
@@ -200,9 +198,11 @@ fn query(
     let options = QueryOptions::new(t_max, Accuracy::Stable).expect("valid window");
     let (mut query, mut firsts) = (SceneQuery::new(), Vec::new());
     let (mut query2, mut firsts2) = (SceneQuery::new(), Vec::new());
+    let (mut compact, mut hits) = (SceneQuery::new(), Vec::new());
+    let (mut compact2, mut hits2) = (SceneQuery::new(), Vec::new());
     let mut parry = ParryQuery::new();
     let mut out = vec![0.0f32; n];
-    let [one, two, peer] = interleaved::best_ns(
+    let [one, two, compact_one, compact_two, peer] = interleaved::best_ns(
         n,
         rounds,
         [
@@ -224,6 +224,22 @@ fn query(
             },
             Timed {
                 pool: &pools.one,
+                min,
+                work: &mut || {
+                    compact.first_contacts_compact_into(&scene, options, &mut hits);
+                    black_box(&hits);
+                },
+            },
+            Timed {
+                pool: &pools.two,
+                min,
+                work: &mut || {
+                    compact2.first_contacts_compact_into(&scene, options, &mut hits2);
+                    black_box(&hits2);
+                },
+            },
+            Timed {
+                pool: &pools.one,
                 min: Duration::ZERO,
                 work: &mut || {
                     black_box(parry.first_contacts(&scene.spheres, t_max, &mut out));
@@ -235,24 +251,44 @@ fn query(
         Ok(m) => format!("; {m}"),
         Err(e) => format!("; memory not measured: {e}"),
     };
-    lines.push(Line {
+    let group = format!(
+        "whole query: first contact per sphere (stable, uniform gas, phi {phi}, half a radius of travel)"
+    );
+    let line = |name: String, ns: f64, threads: usize, note: String| Line {
         group: group.clone(),
-        name: format!("N = {n}"),
+        name,
         n,
-        ns: one,
+        ns,
         peer_ns: Some(peer),
-        note: format!("parry Bvh incremental + cast_shapes{memory_note}"),
-        memory: memory.ok(),
+        note,
+        threads,
         ..Line::default()
-    });
+    };
     lines.push(Line {
-        group,
-        name: format!("N = {n}, 2 threads"),
-        n,
-        ns: two,
-        peer_ns: Some(peer),
-        note: speed_up(one, two),
-        threads: 2,
-        ..Line::default()
+        memory: memory.ok(),
+        ..line(
+            format!("N = {n}"),
+            one,
+            1,
+            format!("parry Bvh incremental + cast_shapes{memory_note}"),
+        )
     });
+    lines.push(line(
+        format!("N = {n}, 2 threads"),
+        two,
+        2,
+        speed_up(one, two),
+    ));
+    lines.push(line(
+        format!("N = {n}, compact answer"),
+        compact_one,
+        1,
+        "first_contacts_compact_into: 8 bytes per sphere".into(),
+    ));
+    lines.push(line(
+        format!("N = {n}, compact answer, 2 threads"),
+        compact_two,
+        2,
+        speed_up(compact_one, compact_two),
+    ));
 }
