@@ -1,7 +1,7 @@
 //! Broad-phase throughput: the uniform grid against parry3d's `Bvh` — rebuilt every step, and
 //! updated incrementally (`insert_or_update_partially`, `refit`, then
 //! `traverse_bvtt_single_tree::<false>`) — on the same swept boxes, one thread, in the same
-//! group. Uniform gas at packing fractions 0.05 and 0.3 with windows of half a radius and of
+//! group; and the grid in a two-thread rayon pool (`grid-2-threads`). Uniform gas at packing fractions 0.05 and 0.3 with windows of half a radius and of
 //! ten radii of travel, and a clustered scene; N = 10³ … 10⁶ (10⁷ with
 //! `SPHERESWEEP_BENCH_HUGE=1`). Candidate pairs per sphere are printed for both. Results:
 //! docs/benchmarks.md.
@@ -24,10 +24,13 @@ fn sizes() -> Vec<usize> {
 }
 
 fn group(c: &mut Criterion, name: &str, make: &dyn Fn(usize) -> SphereStore, t_max: f32) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    let (pool, pool2) = (pool(1), pool(2));
     let mut g = c.benchmark_group(name);
     for n in sizes() {
         let store = make(n);
@@ -50,9 +53,11 @@ fn group(c: &mut Criterion, name: &str, make: &dyn Fn(usize) -> SphereStore, t_m
             let mut grid2 = Grid::new();
             grid2.build(&store, t_max, GridOptions::default());
             g.bench_function(format!("grid-2-threads/{n}"), |b| {
-                b.iter(|| {
-                    grid2.build(&store, t_max, GridOptions::default());
-                    black_box(grid2.pairs().len())
+                pool2.install(|| {
+                    b.iter(|| {
+                        grid2.build(&store, t_max, GridOptions::default());
+                        black_box(grid2.pairs().len())
+                    })
                 })
             });
         }

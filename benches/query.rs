@@ -1,7 +1,8 @@
 //! The whole first-contact query (broad phase + narrow phase + reduction), ours against parry3d
 //! (`Bvh` incremental for the candidates, `cast_shapes` on each, the earliest kept), one
-//! thread; and ours on two threads. Uniform gas at φ = 0.3 and 0.05, half a radius of travel,
-//! N = 10³ … 10⁶. Results: docs/benchmarks.md.
+//! thread; and ours in a two-thread rayon pool; each also with the compact answer
+//! (`first_contacts_compact_into`, 8 bytes per sphere: `stable-compact`). Uniform gas at
+//! φ = 0.3 and 0.05, half a radius of travel, N = 10³ … 10⁶. Results: docs/benchmarks.md.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -14,10 +15,13 @@ use spheresweep_bench::peer::ParryQuery;
 use spheresweep_bench::scenes;
 
 fn query(c: &mut Criterion) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    let (pool, pool2) = (pool(1), pool(2));
     let t_max = scenes::window(0.5);
     let options = QueryOptions::new(t_max, Accuracy::Stable).unwrap();
     for phi in [0.3, 0.05] {
@@ -42,9 +46,29 @@ fn query(c: &mut Criterion) {
             });
             let (mut ours2, mut out2) = (SceneQuery::new(), Vec::new());
             g.bench_function(format!("stable-2-threads/{n}"), |b| {
-                b.iter(|| {
-                    ours2.first_contacts_into(&scene, options, &mut out2);
-                    black_box(&out2);
+                pool2.install(|| {
+                    b.iter(|| {
+                        ours2.first_contacts_into(&scene, options, &mut out2);
+                        black_box(&out2);
+                    })
+                })
+            });
+            let (mut compact, mut hits) = (SceneQuery::new(), Vec::new());
+            g.bench_function(format!("stable-compact/{n}"), |b| {
+                pool.install(|| {
+                    b.iter(|| {
+                        compact.first_contacts_compact_into(&scene, options, &mut hits);
+                        black_box(&hits);
+                    })
+                })
+            });
+            let (mut compact2, mut hits2) = (SceneQuery::new(), Vec::new());
+            g.bench_function(format!("stable-compact-2-threads/{n}"), |b| {
+                pool2.install(|| {
+                    b.iter(|| {
+                        compact2.first_contacts_compact_into(&scene, options, &mut hits2);
+                        black_box(&hits2);
+                    })
                 })
             });
             let mut parry = ParryQuery::new();

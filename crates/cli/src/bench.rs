@@ -1,21 +1,26 @@
 //! `spheresweep bench`: a quick, self-contained throughput report — every kernel and mode
 //! against parry3d's `cast_shapes`, the broad phase against parry3d's `Bvh`, and the whole
-//! first-contact query against parry's `Bvh` + `cast_shapes` — measured side by side in one
-//! run, one thread, best of several interleaved timings, printed with the ratios.
+//! first-contact query against parry's `Bvh` + `cast_shapes` (with the memory it holds per
+//! sphere and, in the full run, the memory floor) — measured side by side in one run, ours on
+//! one and two threads, the peer on one, best of several interleaved timings, printed with the
+//! ratios.
+
+mod floor;
+mod interleaved;
+mod memory_probe;
+mod whole_scene;
 
 use std::error::Error;
 use std::hint::black_box;
 use std::io::Write;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use indicatif::ProgressBar;
-use spheresweep::broad::{Grid, GridOptions};
-use spheresweep::query::SceneQuery;
-use spheresweep::scene::Scene;
 use spheresweep::{Accuracy, QueryOptions};
 use spheresweep_bench::narrow::{self, T_MAX};
-use spheresweep_bench::peer::{ParryIncremental, ParryQuery, ParryRebuild, swept_boxes_into};
-use spheresweep_bench::scenes;
+
+use memory_probe::QueryMemory;
+use whole_scene::{Pools, Timing};
 
 /// Options of `spheresweep bench`.
 #[derive(Debug, clap::Args)]
@@ -35,16 +40,41 @@ pub struct Args {
     /// Default: none (the peer is not run).
     #[arg(long, value_name = "DIR", env = "EDMD_DIR")]
     edmd: Option<std::path::PathBuf>,
+    /// Internal: one query of N spheres in this fresh process, its memory per sphere printed
+    /// (the full report runs itself with it for the query's memory line).
+    #[arg(long, hide = true, value_name = "N")]
+    memory_probe: Option<usize>,
+    /// Internal: the packing fraction of `--memory-probe`'s gas.
+    #[arg(long, hide = true, default_value_t = 0.3)]
+    memory_probe_phi: f64,
 }
 
-/// One measured line: what, how big, ns per item, and the peer's ns per item if it has one.
+/// One measured line: what, how big, ns per item, and the peer's ns per item if it has one;
+/// the threads ours ran on, and the memory per sphere where it was measured.
 struct Line {
-    group: &'static str,
+    group: String,
     name: String,
     n: usize,
     ns: f64,
     peer_ns: Option<f64>,
     note: String,
+    threads: usize,
+    memory: Option<QueryMemory>,
+}
+
+impl Default for Line {
+    fn default() -> Self {
+        Line {
+            group: String::new(),
+            name: String::new(),
+            n: 0,
+            ns: f64::NAN,
+            peer_ns: None,
+            note: String::new(),
+            threads: 1,
+            memory: None,
+        }
+    }
 }
 
 /// The SIMD level this binary was compiled for.
@@ -64,30 +94,33 @@ fn simd_level() -> &'static str {
 
 /// Best time per item of `f` over `rounds` timings of at least `min` each.
 fn best_ns(items: usize, rounds: usize, min: Duration, mut f: impl FnMut()) -> f64 {
-    let mut best = f64::INFINITY;
     f();
-    for _ in 0..rounds {
-        let (start, mut reps) = (Instant::now(), 0u32);
-        while reps == 0 || start.elapsed() < min {
-            f();
-            reps += 1;
-        }
-        let ns = start.elapsed().as_secs_f64() * 1e9 / (f64::from(reps) * items as f64);
-        best = best.min(ns);
-    }
-    best
+    (0..rounds)
+        .map(|_| interleaved::timing_ns(items, min, &mut f))
+        .fold(f64::INFINITY, f64::min)
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let (rounds, min) = if args.quick {
-        (5, Duration::from_millis(20))
+    if let Some(n) = args.memory_probe {
+        return memory_probe::run(n, args.memory_probe_phi);
+    }
+    let load = load_average();
+    let pools = Pools::new()?;
+    let timing = if args.quick {
+        Timing {
+            rounds: 5,
+            min: Duration::from_millis(20),
+        }
     } else {
-        (11, Duration::from_millis(60))
+        Timing {
+            rounds: 11,
+            min: Duration::from_millis(60),
+        }
     };
     let mut lines = Vec::new();
+    let floor_steps = if args.quick { 0 } else { 1 };
     let progress = crate::progress::bar(
-        if args.quick { 8 } else { 12 },
+        4 + whole_scene::steps(args.quick) + floor_steps,
         "{spinner} {wide_bar} {pos}/{len} {msg}",
         args.json,
     )?;
@@ -95,17 +128,22 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         progress.set_length(if args.quick { 6 } else { 10 });
         sim_lines(&mut lines, args, &progress);
     } else {
-        pool.install(|| {
-            narrow_lines(&mut lines, rounds, min, &progress);
-            broad_lines(&mut lines, args.quick, rounds, min, &progress);
-        });
+        pools
+            .one
+            .install(|| narrow_lines(&mut lines, timing.rounds, timing.min, &progress));
+        whole_scene::lines(&mut lines, args.quick, &pools, timing, &progress);
+        if !args.quick {
+            progress.set_message("memory floor (800 MB arrays)");
+            floor::lines(&mut lines);
+            progress.inc(1);
+        }
     }
     progress.finish_and_clear();
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", json(&lines))?;
+        writeln!(out, "{}", json(&lines, load))?;
     } else {
-        write_tables(&mut out, &lines)?;
+        write_tables(&mut out, &lines, load)?;
     }
     Ok(())
 }
@@ -126,12 +164,13 @@ fn narrow_lines(lines: &mut Vec<Line>, rounds: usize, min: Duration, progress: &
             black_box(&mut out);
         });
         lines.push(Line {
-            group: "narrow phase, in cache (4096 pairs)",
+            group: "narrow phase, in cache (4096 pairs)".into(),
             name: format!("sphere-sphere {mode}"),
             n,
             ns,
             peer_ns: Some(peer),
             note: "parry cast_shapes".into(),
+            ..Line::default()
         });
     }
     progress.inc(1);
@@ -157,7 +196,7 @@ fn narrow_lines(lines: &mut Vec<Line>, rounds: usize, min: Duration, progress: &
                 black_box(&mut out);
             });
             lines.push(Line {
-                group: "narrow phase, in cache (4096 pairs)",
+                group: "narrow phase, in cache (4096 pairs)".into(),
                 name: format!("{kind} {mode}"),
                 n,
                 ns,
@@ -167,6 +206,7 @@ fn narrow_lines(lines: &mut Vec<Line>, rounds: usize, min: Duration, progress: &
                 } else {
                     "parry has no inside-of-a-ball cast".into()
                 },
+                ..Line::default()
             });
         }
     }
@@ -191,95 +231,6 @@ fn narrow_lines(lines: &mut Vec<Line>, rounds: usize, min: Duration, progress: &
         min,
     );
     progress.inc(1);
-}
-
-fn broad_lines(
-    lines: &mut Vec<Line>,
-    quick: bool,
-    rounds: usize,
-    min: Duration,
-    progress: &ProgressBar,
-) {
-    let sizes: &[usize] = if quick {
-        &[10_000, 100_000]
-    } else {
-        &[1_000, 10_000, 100_000, 1_000_000]
-    };
-    let t_max = scenes::window(0.5);
-    for &n in sizes {
-        progress.set_message(format!("broad phase and query, N = {n}"));
-        let store = scenes::uniform_gas(n, 0.3, 7);
-        let (rounds, min) = if n >= 1_000_000 {
-            (3, Duration::ZERO)
-        } else {
-            (rounds, min)
-        };
-        let mut grid = Grid::new();
-        let ours = best_ns(n, rounds, min, || {
-            grid.build(&store, t_max, GridOptions::default());
-            black_box(grid.pairs().len());
-        });
-        let candidates = grid.pairs().len();
-        let (mut lo, mut hi) = (Vec::new(), Vec::new());
-        swept_boxes_into(&store, t_max, &mut lo, &mut hi);
-        let mut incremental = ParryIncremental::new();
-        incremental.count(&lo, &hi);
-        let mut peer_pairs = 0;
-        let peer = best_ns(n, rounds, min, || {
-            peer_pairs = incremental.count(&lo, &hi);
-        });
-        lines.push(Line {
-            group: "broad phase (uniform gas, phi 0.3, half a radius of travel)",
-            name: format!("grid vs Bvh incremental, N = {n}"),
-            n,
-            ns: ours,
-            peer_ns: Some(peer),
-            note: format!(
-                "{:.2} / {:.2} candidates per sphere",
-                candidates as f64 / n as f64,
-                peer_pairs as f64 / n as f64
-            ),
-        });
-        if n <= 100_000 {
-            let mut rebuild = ParryRebuild::new();
-            let peer = best_ns(n, rounds.min(3), Duration::ZERO, || {
-                black_box(rebuild.count(&lo, &hi));
-            });
-            lines.push(Line {
-                group: "broad phase (uniform gas, phi 0.3, half a radius of travel)",
-                name: format!("grid vs Bvh rebuilt, N = {n}"),
-                n,
-                ns: ours,
-                peer_ns: Some(peer),
-                note: String::new(),
-            });
-        }
-        let scene = Scene {
-            spheres: store,
-            ..Scene::default()
-        };
-        let options = QueryOptions::new(t_max, Accuracy::Stable).expect("valid window");
-        let (mut query, mut firsts) = (SceneQuery::new(), Vec::new());
-        let ours = best_ns(n, rounds, min, || {
-            query.first_contacts_into(&scene, options, &mut firsts);
-            black_box(&firsts);
-        });
-        let mut parry = ParryQuery::new();
-        let mut out = vec![0.0f32; n];
-        parry.first_contacts(&scene.spheres, t_max, &mut out);
-        let peer = best_ns(n, rounds.min(5), Duration::ZERO, || {
-            parry.first_contacts(&scene.spheres, t_max, &mut out);
-        });
-        lines.push(Line {
-            group: "whole query: first contact per sphere (stable)",
-            name: format!("N = {n}"),
-            n,
-            ns: ours,
-            peer_ns: Some(peer),
-            note: "parry Bvh incremental + cast_shapes".into(),
-        });
-        progress.inc(2);
-    }
 }
 
 /// The event-driven engine on the peer's gas, ours and the peer alternately (best of the
@@ -320,7 +271,7 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
         let s = stats.expect("one repetition");
         let per = |x: u64| x as f64 / s.pair_collisions as f64;
         lines.push(Line {
-            group: GROUP,
+            group: GROUP.into(),
             name: format!("gas N = {n}, φ = {phi}"),
             n,
             ns: ours,
@@ -332,6 +283,7 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
                 per(s.crossings),
                 per(s.kernels.sphere)
             ),
+            ..Line::default()
         });
         progress.inc(1);
     }
@@ -352,12 +304,13 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
         .map(|s| s.engine_name())
         .unwrap_or_default();
     lines.push(Line {
-        group: "simulation: effects a scene declares but does not use (ns per collision; \"peer\" = the plain gas)",
+        group: "simulation: effects a scene declares but does not use (ns per collision; \"peer\" = the plain gas)".into(),
         name: "gas N = 4000, φ = 0.25, sticky + inelastic declared".into(),
         n: 4000,
         ns: declared,
         peer_ns: Some(plain),
         note: format!("engine assembled: {engine}"),
+        ..Line::default()
     });
     progress.inc(1);
     if !args.quick {
@@ -367,7 +320,7 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
             format!("; this process's peak resident {:.0} MB", p as f64 / 1e6)
         });
         lines.push(Line {
-            group: GROUP,
+            group: GROUP.into(),
             name: "gas N = 1000000, φ = 0.25".into(),
             n: 1_000_000,
             ns: 1e9 / r.per_second(),
@@ -376,6 +329,7 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
                 "{:.0} bytes per sphere held by the simulation{peak}",
                 r.bytes as f64 / 1e6
             ),
+            ..Line::default()
         });
         progress.inc(1);
     }
@@ -384,10 +338,20 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
     }
 }
 
-fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
+/// The one-minute load average when the run started (Linux `/proc/loadavg`), if known: with
+/// other work on the machine, two threads of ours share the cores with it.
+fn load_average() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    text.split_whitespace().next()?.parse().ok()
+}
+
+fn write_tables(out: &mut impl Write, lines: &[Line], load: Option<f64>) -> std::io::Result<()> {
+    let load = load.map_or(String::new(), |l| {
+        format!(", load average {l:.2} at the start")
+    });
     writeln!(
         out,
-        "spheresweep {} — built for {}; one thread; {} cores available",
+        "spheresweep {} — built for {}; ours on one thread unless a line says two, the peer on one; {} cores available{load}",
         env!("CARGO_PKG_VERSION"),
         simd_level(),
         std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -395,8 +359,8 @@ fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
     // Each group once, in order of first appearance.
     let mut groups: Vec<&str> = Vec::new();
     for l in lines {
-        if !groups.contains(&l.group) {
-            groups.push(l.group);
+        if !groups.contains(&l.group.as_str()) {
+            groups.push(&l.group);
         }
     }
     let mut sorted: Vec<&Line> = lines.iter().collect();
@@ -404,11 +368,11 @@ fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
     let mut group = "";
     for l in sorted {
         if l.group != group {
-            group = l.group;
+            group = &l.group;
             writeln!(out, "\n{group}")?;
             writeln!(
                 out,
-                "  {:<40} {:>12} {:>12} {:>10}",
+                "  {:<48} {:>12} {:>12} {:>10}",
                 "", "ns / item", "peer ns", "× peer"
             )?;
         }
@@ -418,34 +382,40 @@ fn write_tables(out: &mut impl Write, lines: &[Line]) -> std::io::Result<()> {
         };
         writeln!(
             out,
-            "  {:<40} {:>12.3} {:>12} {:>10}  {}",
+            "  {:<48} {:>12.3} {:>12} {:>10}  {}",
             l.name, l.ns, peer, ratio, l.note
         )?;
     }
     Ok(())
 }
 
-fn json(lines: &[Line]) -> String {
-    let esc = |s: &str| s.replace('\\', "\\\\").replace('"', "\\\"");
-    let items: Vec<String> = lines
+/// The report as one JSON object: every line with its threads, ratio and (for the query)
+/// bytes per sphere held after the first call and at its peak.
+fn json(lines: &[Line], load: Option<f64>) -> String {
+    let items: Vec<serde_json::Value> = lines
         .iter()
         .map(|l| {
-            format!(
-                "{{\"group\":\"{}\",\"name\":\"{}\",\"n\":{},\"ns_per_item\":{:.4},\"peer_ns_per_item\":{},\"ratio\":{},\"note\":\"{}\"}}",
-                esc(l.group),
-                esc(&l.name),
-                l.n,
-                l.ns,
-                l.peer_ns.map_or("null".into(), |p| format!("{p:.4}")),
-                l.peer_ns.map_or("null".into(), |p| format!("{:.3}", p / l.ns)),
-                esc(&l.note)
-            )
+            serde_json::json!({
+                "group": l.group,
+                "name": l.name,
+                "n": l.n,
+                "threads": l.threads,
+                "ns_per_item": l.ns,
+                "peer_ns_per_item": l.peer_ns,
+                "ratio": l.peer_ns.map(|p| p / l.ns),
+                "held_bytes_per_sphere": l.memory.map(|m| m.held),
+                "peak_bytes_per_sphere": l.memory.and_then(|m| m.peak),
+                "note": l.note,
+            })
         })
         .collect();
-    format!(
-        "{{\"version\":\"{}\",\"simd\":\"{}\",\"threads\":1,\"lines\":[{}]}}",
-        env!("CARGO_PKG_VERSION"),
-        simd_level(),
-        items.join(",")
-    )
+    serde_json::json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "simd": simd_level(),
+        "peer_threads": 1,
+        "cores": std::thread::available_parallelism().map_or(1, |n| n.get()),
+        "load_average": load,
+        "lines": items,
+    })
+    .to_string()
 }

@@ -34,7 +34,8 @@ enum Command {
     /// nine-sphere query scene instead.
     Demo(demo::Args),
     /// Throughput of every kernel and mode, the broad phase and the whole query, each against
-    /// parry3d in the same run, one thread (`--quick` for a run under a minute, `--json`).
+    /// parry3d in the same run, ours on one and two threads (`--quick` for a run under a
+    /// minute, `--json`).
     Bench(bench::Args),
     /// Measure every accuracy mode (and parry3d) against an exact oracle on hard cases, with
     /// throughput from the same run; write the report and its SVG plot to

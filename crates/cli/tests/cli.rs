@@ -719,3 +719,29 @@ fn render_errors_name_the_problem_and_write_nothing() {
     assert_eq!(std::fs::read_to_string(&notes).unwrap(), "not a scene\n");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `bench`'s memory line comes from `bench --memory-probe N` run as a fresh process: it prints
+/// the bytes per sphere a query held after its first call and the peak during it, both
+/// measured (the query keeps its buffers, so it holds something) and the peak the larger.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_memory_probe_prints_held_and_peak_bytes_per_sphere() {
+    let out = run(&[
+        "bench",
+        "--memory-probe",
+        "20000",
+        "--memory-probe-phi",
+        "0.3",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let figures: Vec<f64> = stdout
+        .split_whitespace()
+        .map(|f| f.parse().unwrap())
+        .collect();
+    let [held, peak] = figures[..] else {
+        panic!("two figures expected: {stdout:?}");
+    };
+    assert!(held > 0.0 && held < 10_000.0, "{stdout:?}");
+    assert!(peak >= held, "{stdout:?}");
+}
