@@ -200,7 +200,13 @@ pub(crate) fn listed_hits<G: Gather>(
         let t_max = L::splat(t);
         let none = L::splat(f32::INFINITY);
         for group in pairs.chunks(L::WIDTH) {
-            let gather = |k: usize| store.gather::<L>(group.iter().map(move |p| p[k] as usize));
+            let gather = |k: usize| {
+                if L::WIDTH == 8 && group.len() == 8 {
+                    store.gather8::<L>(std::array::from_fn(|j| group[j][k] as usize))
+                } else {
+                    store.gather::<L>(group.iter().map(move |p| p[k] as usize))
+                }
+            };
             let reload = || [gather(0), gather(1)];
             let t = sphere_pair::<L, S>(&gather(0), &gather(1), t_max, reload);
             // Padding lanes (NaN spheres) never hit.

@@ -412,6 +412,9 @@ struct OfferStatics<'a> {
 
 impl<P> Visitor<P> for OfferStatics<'_> {
     fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
+        if shapes.is_empty() {
+            return;
+        }
         assert!(
             shapes.len() <= MAX_INDEX as usize + 1,
             "{} {}s: a first-contact query takes at most {} of a kind",
