@@ -6,8 +6,13 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use rayon::prelude::*;
+
 use crate::contact::Body;
 use crate::shape::ShapeKind;
+
+/// Slots per rayon task in the passes over all slots.
+const MIN_LEN: usize = 1 << 14;
 
 /// Bits of the body's index; the two above them hold the kind's code.
 const INDEX_BITS: u32 = 30;
@@ -119,14 +124,58 @@ pub(crate) struct Slots {
     plain: Vec<CompactContact>,
     /// Which of the two the last [`reset`](Slots::reset) and writes used.
     is_plain: bool,
+    /// The slots in the caller's order, for the parallel scatter.
+    by_scene: Vec<AtomicU64>,
 }
 
 impl Slots {
-    /// `n` empty shared slots (the buffer is kept between calls).
+    /// `n` empty shared slots (the buffer is kept between calls), filled on rayon.
     pub(crate) fn reset(&mut self, n: usize) {
         self.is_plain = false;
-        self.shared.clear();
+        self.shared.truncate(n);
+        self.shared
+            .par_iter()
+            .with_min_len(MIN_LEN)
+            .for_each(|s| s.store(u64::MAX, Ordering::Relaxed));
         self.shared.resize_with(n, || AtomicU64::new(u64::MAX));
+    }
+
+    /// `out[order[p]]` becomes the lesser of itself and slot `p`, for every position `p`.
+    /// On rayon when `par`: each slot is stored once into a buffer in the caller's order
+    /// (an atomic store is a plain move; every index is written once, so no order matters),
+    /// then merged into `out` in one streaming pass.
+    pub(crate) fn scatter_min(&mut self, order: &[u32], out: &mut [CompactContact], par: bool) {
+        if !par {
+            for (p, &i) in order.iter().enumerate() {
+                let i = i as usize;
+                out[i] = out[i].min(self.get(p));
+            }
+            return;
+        }
+        let n = order.len();
+        if self.by_scene.len() < n {
+            self.by_scene.resize_with(n, Default::default);
+        }
+        let (by_scene, shared, plain) = (&self.by_scene[..n], &self.shared, &self.plain);
+        let is_plain = self.is_plain;
+        let slot = |p: usize| {
+            if is_plain {
+                plain[p].0
+            } else {
+                shared[p].load(Ordering::Relaxed)
+            }
+        };
+        order
+            .par_iter()
+            .enumerate()
+            .with_min_len(MIN_LEN)
+            .for_each(|(p, &i)| {
+                by_scene[i as usize].store(slot(p), Ordering::Relaxed);
+            });
+        out.par_iter_mut()
+            .zip(by_scene.par_iter())
+            .with_min_len(MIN_LEN)
+            .for_each(|(o, s)| *o = (*o).min(CompactContact(s.load(Ordering::Relaxed))));
     }
 
     /// `n` empty slots as plain values, for one thread.
@@ -159,7 +208,7 @@ impl Slots {
 
     /// Heap bytes held.
     pub(crate) fn heap_bytes(&self) -> usize {
-        (self.shared.capacity() + self.plain.capacity()) * 8
+        (self.shared.capacity() + self.plain.capacity() + self.by_scene.capacity()) * 8
     }
 }
 

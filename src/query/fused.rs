@@ -39,10 +39,8 @@ impl SceneQuery {
         } else {
             self.offer_pairs_in_order(n, options)
         };
-        for (p, &i) in self.grid.order().iter().enumerate() {
-            let i = i as usize;
-            out[i] = out[i].min(self.slots.get(p));
-        }
+        let par = self.grid.parallel();
+        self.slots.scatter_min(self.grid.order(), out, par);
         candidates
     }
 
