@@ -4,7 +4,7 @@ with ratios to parry3d measured in the same group, and draw the scaling plot.
 
 Usage: python3 scripts/broad_table.py [--svg docs/scaling.svg]
 Groups read: broad_* (grid, grid-2-threads, parry-bvh-incremental, parry-bvh-rebuild) and
-query_* (stable, stable-2-threads, parry-bvh-cast_shapes). Times are criterion's medians per
+query_* (stable-compact and stable, each also on two threads, parry-bvh-cast_shapes). Times are criterion's medians per
 sphere; ratios are within one run, so they hold when the shared machine's speed drifts.
 """
 import math
@@ -15,28 +15,30 @@ sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from criterion_table import read, root  # noqa: E402  (one reader of criterion's files)
 
 
-def table(group, peer, ours, two):
+def table(group, peer, pairs):
+    """One table of `group`: every line's median per sphere, then for each (ours, two) of
+    `pairs` the ratio peer / ours and the two-thread speed-up ours / two."""
     rows = read(group)
     if not rows:
         return
     sizes = sorted({n for line in rows.values() for n in line})
+    pairs = [(o, t) for o, t in pairs if o in rows]
     print(f"\n**{group}** (ns per sphere; × = {peer} / ours)\n")
     lines = sorted(rows)
-    print("| N | " + " | ".join(lines) + f" | × {peer} | 2 threads speed-up |")
-    print("|---:|" + "---:|" * (len(lines) + 2))
+    heads = [f"× {peer} ({o})" for o, _ in pairs] + [f"{o}: 2 threads speed-up" for o, _ in pairs]
+    print("| N | " + " | ".join(lines + heads) + " |")
+    print("|---:|" + "---:|" * (len(lines) + len(heads)))
     for n in sizes:
         cells = [f"{rows[l][n]:.1f}" if n in rows[l] else "–" for l in lines]
-        ratio = (
-            f"{rows[peer][n] / rows[ours][n]:.1f}×"
-            if n in rows.get(peer, {}) and n in rows.get(ours, {})
-            else "–"
-        )
-        speed = (
-            f"{rows[ours][n] / rows[two][n]:.2f}×"
-            if n in rows.get(two, {}) and n in rows.get(ours, {})
-            else "–"
-        )
-        print(f"| {n:,} | " + " | ".join(cells) + f" | {ratio} | {speed} |")
+        ratios = [
+            f"{rows[peer][n] / rows[o][n]:.1f}×" if n in rows.get(peer, {}) and n in rows[o] else "–"
+            for o, _ in pairs
+        ]
+        speeds = [
+            f"{rows[o][n] / rows[t][n]:.2f}×" if n in rows.get(t, {}) and n in rows[o] else "–"
+            for o, t in pairs
+        ]
+        print(f"| {n:,} | " + " | ".join(cells + ratios + speeds) + " |")
 
 
 def svg(path):
@@ -102,8 +104,12 @@ def svg(path):
 
 groups = sorted(p.name for p in root.glob("broad_*")) if root.exists() else []
 for group in groups:
-    table(group, "parry-bvh-incremental", "grid", "grid-2-threads")
+    table(group, "parry-bvh-incremental", [("grid", "grid-2-threads")])
 for group in sorted(p.name for p in root.glob("query_*")) if root.exists() else []:
-    table(group, "parry-bvh-cast_shapes", "stable", "stable-2-threads")
+    table(
+        group,
+        "parry-bvh-cast_shapes",
+        [("stable-compact", "stable-compact-2-threads"), ("stable", "stable-2-threads")],
+    )
 if "--svg" in sys.argv:
     svg(sys.argv[sys.argv.index("--svg") + 1])
