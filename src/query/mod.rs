@@ -498,11 +498,21 @@ fn geometry(scene: &Scene, sphere: u32, body: Body, time: f32) -> Contact {
 ///
 /// ```
 /// use spheresweep::{QueryOptions, query::{SceneQuery, geometry_of}};
-/// let scene = spheresweep::scene::demo();
+/// # use spheresweep::{Plane, Sphere, SphereStore, Statics, scene::Scene};
+/// # let scene = Scene {
+/// #     spheres: SphereStore::from_spheres(&[
+/// #         Sphere::new([0.0; 3], [1.0, 0.0, 0.0], 1.0, 1.0)?, // reaches sphere 1 at t = 4
+/// #         Sphere::new([6.0, 0.0, 0.0], [0.0; 3], 1.0, 1.0)?,
+/// #         Sphere::new([0.0, 20.0, -6.0], [0.0, 0.0, -1.0], 1.0, 1.0)?, // the floor at t = 3
+/// #     ]),
+/// #     statics: Statics::new().with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?, ()),
+/// # };
 /// let (mut hits, mut points) = (Vec::new(), Vec::new());
 /// SceneQuery::new().first_contacts_compact_into(&scene, QueryOptions::default(), &mut hits);
 /// geometry_of(&scene, &hits, &mut points);
 /// assert_eq!(points[2].unwrap().point.z, -10.0); // sphere 2 lands on the floor
+/// assert_eq!(points[0].unwrap().point.x, 5.0); // spheres 0 and 1 meet half way
+/// # Ok::<(), spheresweep::Error>(())
 /// ```
 pub fn geometry_of(scene: &Scene, hits: &[CompactContact], out: &mut Vec<Option<Contact>>) {
     out.clear();
