@@ -85,10 +85,11 @@ fn elastic_gas_conserves_energy_and_momentum_over_a_million_collisions() {
 }
 
 /// The pressure from the collision virial matches the KLM equation of state within three
-/// standard errors of the run's own block averages, at φ = 0.1 … 0.4.
+/// standard errors of the run's own block averages, at φ = 0.1 … 0.45 (the dense fluid: KLM
+/// holds up to freezing at 0.494; above it the lattice the gas starts from need not melt).
 #[test]
 fn pressure_matches_the_klm_equation_of_state() {
-    for (phi, seed) in [(0.1, 1), (0.2, 2), (0.3, 3), (0.4, 4)] {
+    for (phi, seed) in [(0.1, 1), (0.2, 2), (0.3, 3), (0.4, 4), (0.45, 5)] {
         let n = 2048;
         let mut sim = Simulation::new(gas(n, phi, seed)).unwrap();
         // Melt the lattice: about 30 collisions per sphere.
@@ -119,10 +120,14 @@ fn pressure_matches_the_klm_equation_of_state() {
             (mean - expected) / se
         );
         // The standard error is small enough for the test to tell KLM from Carnahan–Starling
-        // at the denser states (they differ by 0.27 % at φ = 0.3).
+        // at the denser states (they differ by 0.27 % at φ = 0.3; they come close again near
+        // 0.45, where the test checks only the error's size).
         if phi >= 0.3 {
             let cs = observables::carnahan_starling_z(phi);
-            assert!((cs - expected).abs() > 0.002 * expected, "φ = {phi}");
+            assert!(
+                phi > 0.4 || (cs - expected).abs() > 0.002 * expected,
+                "φ = {phi}"
+            );
             assert!(
                 se < 0.003 * expected,
                 "φ = {phi}: standard error {se} too large to test"

@@ -125,7 +125,9 @@ fn frames(n: usize) {
         assert_eq!(out, fresh_out);
         for i in 0..n {
             let s = spheres.get(i).unwrap();
-            spheres.set_centre(i, s.centre_at(t_max).to_array()).unwrap();
+            spheres
+                .set_centre(i, s.centre_at(t_max).to_array())
+                .unwrap();
         }
     }
     println!(

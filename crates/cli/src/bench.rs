@@ -32,7 +32,7 @@ pub struct Args {
     #[arg(long)]
     json: bool,
     /// Run only the simulation section: collisions per second of the hard-sphere gas at
-    /// N = 4000, φ = 0.1 … 0.4 and larger N, the cost of unused effects, bytes per sphere.
+    /// N = 4000, φ = 0.1 … 0.5 and larger N, the cost of unused effects, bytes per sphere.
     #[arg(long)]
     sim: bool,
     /// A checkout of Smallenburg's EDMD (github.com/FSmallenburg/EDMD): its "Single" program
@@ -244,7 +244,8 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
     } else {
         (3, 2_000_000, 3_000_000)
     };
-    let mut cases: Vec<(usize, f64, u64)> = [0.1, 0.2, 0.25, 0.3, 0.4]
+    // Up to the dense fluid (freezing at 0.494) and into the coexistence region (0.5).
+    let mut cases: Vec<(usize, f64, u64)> = [0.1, 0.2, 0.25, 0.3, 0.4, 0.45, 0.5]
         .iter()
         .map(|&phi| (4000, phi, small))
         .collect();
