@@ -24,13 +24,7 @@ fn sizes() -> Vec<usize> {
 }
 
 fn group(c: &mut Criterion, name: &str, make: &dyn Fn(usize) -> SphereStore, t_max: f32) {
-    let pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
-    let (pool, pool2) = (pool(1), pool(2));
+    let (pool, pool2) = (spheresweep_bench::pool(1), spheresweep_bench::pool(2));
     let mut g = c.benchmark_group(name);
     for n in sizes() {
         let store = make(n);

@@ -15,13 +15,7 @@ use spheresweep_bench::peer::ParryQuery;
 use spheresweep_bench::scenes;
 
 fn query(c: &mut Criterion) {
-    let pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
-    let (pool, pool2) = (pool(1), pool(2));
+    let (pool, pool2) = (spheresweep_bench::pool(1), spheresweep_bench::pool(2));
     let t_max = scenes::window(0.5);
     let options = QueryOptions::new(t_max, Accuracy::Stable).unwrap();
     for phi in [0.3, 0.05] {

@@ -140,10 +140,7 @@ mod tests {
                 crate::Sphere::new(c, v, 0.3, 1.0).unwrap()
             })
             .collect();
-        Scene {
-            spheres: SphereStore::from_spheres(&spheres),
-            ..Scene::default()
-        }
+        super::super::scene_of(&spheres)
     }
 
     #[test]

@@ -29,6 +29,15 @@ mod unbounded;
 
 pub use compact::{CompactContact, MAX_INDEX};
 
+/// A scene of these spheres and no static shape (the query's unit tests).
+#[cfg(test)]
+fn scene_of(spheres: &[crate::Sphere]) -> Scene {
+    Scene {
+        spheres: SphereStore::from_spheres(spheres),
+        ..Scene::default()
+    }
+}
+
 use crate::batch::{self, FirstContact, QueryOptions, StaticShape};
 use crate::broad::{Grid, GridOptions};
 use crate::contact::{Body, Contact, contact_at};

@@ -183,10 +183,7 @@ mod tests {
                 crate::Sphere::new(c.as_vec3().to_array(), v.as_vec3().to_array(), r, 1.0).unwrap()
             }))
             .collect();
-        Scene {
-            spheres: SphereStore::from_spheres(&spheres),
-            ..Scene::default()
-        }
+        super::super::scene_of(&spheres)
     }
 
     #[test]
