@@ -5,6 +5,7 @@
 //! offer contacts to a slot in any order and the answer is the same bits.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 use rayon::prelude::*;
 
@@ -115,29 +116,66 @@ impl std::fmt::Debug for CompactContact {
     }
 }
 
-/// Slots that threads offer contacts to: each keeps the least it was offered. One thread
-/// writes them as plain values ([`plain`](Slots::plain)), several through atomics
-/// ([`offer`](Slots::offer)); a slot holds the same bits either way.
+/// Slots that keep, each, the least contact offered: plain values written by one thread
+/// ([`plain`](Slots::plain)), or one set per rayon thread ([`worker`](Slots::worker)) merged
+/// by `min` at the end ([`merge_workers`](Slots::merge_workers)). No slot is shared between
+/// threads while they write, and a `min` does not depend on the order of the offers: the
+/// same bits for any thread count.
 #[derive(Debug, Default)]
 pub(crate) struct Slots {
-    shared: Vec<AtomicU64>,
     plain: Vec<CompactContact>,
-    /// Which of the two the last [`reset`](Slots::reset) and writes used.
-    is_plain: bool,
+    /// One set of plain slots per rayon thread, each written by its thread alone.
+    workers: Vec<Mutex<Vec<CompactContact>>>,
     /// The slots in the caller's order, for the parallel scatter.
     by_scene: Vec<AtomicU64>,
 }
 
 impl Slots {
-    /// `n` empty shared slots (the buffer is kept between calls), filled on rayon.
-    pub(crate) fn reset(&mut self, n: usize) {
-        self.is_plain = false;
-        self.shared.truncate(n);
-        self.shared
-            .par_iter()
-            .with_min_len(MIN_LEN)
-            .for_each(|s| s.store(u64::MAX, Ordering::Relaxed));
-        self.shared.resize_with(n, || AtomicU64::new(u64::MAX));
+    /// `n` empty slots as plain values, for one thread.
+    pub(crate) fn plain(&mut self, n: usize) -> &mut [CompactContact] {
+        self.plain.clear();
+        self.plain.resize(n, CompactContact::NONE);
+        &mut self.plain
+    }
+
+    /// `n` empty slots for each of `workers` threads, filled on rayon.
+    pub(crate) fn reset_workers(&mut self, n: usize, workers: usize) {
+        if self.workers.len() < workers {
+            self.workers.resize_with(workers, Default::default);
+        }
+        self.workers[..workers].par_iter_mut().for_each(|m| {
+            let slots = m.get_mut().unwrap_or_else(|e| e.into_inner());
+            slots.clear();
+            slots.resize(n, CompactContact::NONE);
+        });
+    }
+
+    /// Worker `w`'s slots (locked once a batch; no other thread asks for them).
+    pub(crate) fn worker(&self, w: usize) -> MutexGuard<'_, Vec<CompactContact>> {
+        self.workers[w].lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The plain slots become the least of the `workers` threads' slots, on rayon.
+    pub(crate) fn merge_workers(&mut self, n: usize, workers: usize) {
+        self.plain.clear();
+        self.plain.resize(n, CompactContact::NONE);
+        let sets: Vec<&Vec<CompactContact>> = self.workers[..workers]
+            .iter_mut()
+            .map(|m| &*m.get_mut().unwrap_or_else(|e| e.into_inner()))
+            .collect();
+        self.plain
+            .par_chunks_mut(MIN_LEN)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                let start = c * MIN_LEN;
+                for (k, slot) in chunk.iter_mut().enumerate() {
+                    *slot = sets
+                        .iter()
+                        .map(|s| s[start + k])
+                        .min()
+                        .unwrap_or(CompactContact::NONE);
+                }
+            });
     }
 
     /// `out[order[p]]` becomes the lesser of itself and slot `p`, for every position `p`.
@@ -145,10 +183,11 @@ impl Slots {
     /// (an atomic store is a plain move; every index is written once, so no order matters),
     /// then merged into `out` in one streaming pass.
     pub(crate) fn scatter_min(&mut self, order: &[u32], out: &mut [CompactContact], par: bool) {
+        let plain = &self.plain;
         if !par {
-            for (p, &i) in order.iter().enumerate() {
+            for (&c, &i) in plain.iter().zip(order) {
                 let i = i as usize;
-                out[i] = out[i].min(self.get(p));
+                out[i] = out[i].min(c);
             }
             return;
         }
@@ -156,59 +195,26 @@ impl Slots {
         if self.by_scene.len() < n {
             self.by_scene.resize_with(n, Default::default);
         }
-        let (by_scene, shared, plain) = (&self.by_scene[..n], &self.shared, &self.plain);
-        let is_plain = self.is_plain;
-        let slot = |p: usize| {
-            if is_plain {
-                plain[p].0
-            } else {
-                shared[p].load(Ordering::Relaxed)
-            }
-        };
+        let by_scene = &self.by_scene[..n];
         order
             .par_iter()
-            .enumerate()
+            .zip(plain.par_iter())
             .with_min_len(MIN_LEN)
-            .for_each(|(p, &i)| {
-                by_scene[i as usize].store(slot(p), Ordering::Relaxed);
-            });
+            .for_each(|(&i, c)| by_scene[i as usize].store(c.0, Ordering::Relaxed));
         out.par_iter_mut()
             .zip(by_scene.par_iter())
             .with_min_len(MIN_LEN)
             .for_each(|(o, s)| *o = (*o).min(CompactContact(s.load(Ordering::Relaxed))));
     }
 
-    /// `n` empty slots as plain values, for one thread.
-    pub(crate) fn plain(&mut self, n: usize) -> &mut [CompactContact] {
-        self.is_plain = true;
-        self.plain.clear();
-        self.plain.resize(n, CompactContact::NONE);
-        &mut self.plain
-    }
-
-    /// Keeps `c` in slot `i` if it is less than what the slot holds. A plain load first: most
-    /// offers after the first lose and need no locked instruction.
-    #[inline(always)]
-    pub(crate) fn offer(&self, i: usize, c: CompactContact) {
-        let slot = &self.shared[i];
-        if c.0 < slot.load(Ordering::Relaxed) {
-            slot.fetch_min(c.0, Ordering::Relaxed);
-        }
-    }
-
-    /// What slot `i` holds.
-    #[inline(always)]
-    pub(crate) fn get(&mut self, i: usize) -> CompactContact {
-        if self.is_plain {
-            self.plain[i]
-        } else {
-            CompactContact(*self.shared[i].get_mut())
-        }
-    }
-
     /// Heap bytes held.
     pub(crate) fn heap_bytes(&self) -> usize {
-        (self.shared.capacity() + self.plain.capacity() + self.by_scene.capacity()) * 8
+        let workers: usize = self
+            .workers
+            .iter()
+            .map(|m| m.lock().unwrap_or_else(|e| e.into_inner()).capacity())
+            .sum();
+        (self.plain.capacity() + self.by_scene.capacity() + workers) * 8
     }
 }
 
@@ -253,17 +259,24 @@ mod tests {
     }
 
     #[test]
-    fn slots_keep_the_least_offer_in_any_order() {
+    fn worker_slots_merge_to_the_least_offer_in_any_order() {
         let mut slots = Slots::default();
-        slots.reset(2);
+        slots.reset_workers(2, 3);
         let offers = [3.0, 1.0, 2.0, 1.0].map(|t| CompactContact::sphere(t, t as u32));
+        // Slot 0 offered everything by worker 0; slot 1 the same offers spread over the
+        // workers in reverse.
         for &c in &offers {
-            slots.offer(0, c);
+            let mut w = slots.worker(0);
+            w[0] = w[0].min(c);
         }
-        for &c in offers.iter().rev() {
-            slots.offer(1, c);
+        for (k, &c) in offers.iter().rev().enumerate() {
+            let mut w = slots.worker(k % 3);
+            w[1] = w[1].min(c);
         }
-        assert_eq!(slots.get(0), CompactContact::sphere(1.0, 1));
-        assert_eq!(slots.get(0), slots.get(1));
+        slots.merge_workers(2, 3);
+        let mut out = vec![CompactContact::NONE; 2];
+        slots.scatter_min(&[1, 0], &mut out, false);
+        assert_eq!(out[1], CompactContact::sphere(1.0, 1));
+        assert_eq!(out[0], out[1]);
     }
 }

@@ -36,8 +36,9 @@ pub const SAMPLE: usize = 128;
 /// Sampled candidate pairs whose time the kernel computes to estimate the share that touch.
 pub const KERNEL_SAMPLE: usize = 1 << 14;
 /// Bytes a sphere costs the query whatever the window: the grid's keys, order, boxes and
-/// cells, the packed and sorted copies, the slots and the answer; a bound on
-/// [`SceneQuery::heap_bytes`](super::SceneQuery::heap_bytes) per sphere, checked by a test.
+/// cells, the records in cell order, the slots (8 bytes for each rayon thread) and the answer;
+/// a bound on [`SceneQuery::heap_bytes`](super::SceneQuery::heap_bytes) per sphere (about 140
+/// on one or two threads, checked by a test) up to about twenty threads.
 pub const PER_SPHERE: usize = 320;
 
 /// A query's estimated size (see the module docs).

@@ -44,19 +44,24 @@ impl SceneQuery {
         candidates
     }
 
-    /// Stage 3 on rayon: hits offered to shared slots (an atomic `min`).
+    /// Stage 3 on rayon: each thread keeps its hits in slots of its own (no atomics, no
+    /// sharing), merged by `min` at the end.
     fn offer_pairs_in_parallel(&mut self, n: usize, options: QueryOptions) -> usize {
-        self.slots.reset(n);
+        let workers = rayon::current_num_threads();
+        self.slots.reset_workers(n, workers);
         let (order, sorted, slots) = (self.grid.order(), self.grid.sorted_spheres(), &self.slots);
         let candidates = AtomicUsize::new(0);
         self.grid.visit_pairs(&|pairs| {
             candidates.fetch_add(pairs.len(), Ordering::Relaxed);
+            let worker = rayon::current_thread_index().unwrap_or(0) % workers;
+            let mut mine = slots.worker(worker);
             listed_hits(sorted, pairs, options, &mut |[p, q], time| {
                 let (p, q) = (p as usize, q as usize);
-                slots.offer(p, CompactContact::sphere(time, order[q]));
-                slots.offer(q, CompactContact::sphere(time, order[p]));
+                mine[p] = mine[p].min(CompactContact::sphere(time, order[q]));
+                mine[q] = mine[q].min(CompactContact::sphere(time, order[p]));
             });
         });
+        self.slots.merge_workers(n, workers);
         candidates.into_inner()
     }
 
