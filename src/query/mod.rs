@@ -187,6 +187,33 @@ impl SceneQuery {
         }
     }
 
+    /// The scene indices in the cell order of the last query's grid (empty after a query that
+    /// used no grid). A caller that keeps its spheres in this order
+    /// ([`SphereStore::gathered`]) makes the next query read them in sequence; the answers
+    /// stay in the order of the scene it is given.
+    ///
+    /// ```
+    /// use spheresweep::{Accuracy, QueryOptions, query::SceneQuery, scene::Scene};
+    /// let mut scene = spheresweep::scene::demo();
+    /// let mut query = SceneQuery::new();
+    /// let options = QueryOptions::new(1.0, Accuracy::Stable)?;
+    /// let before = query.first_contacts(&scene, options);
+    /// let order = query.cell_order().to_vec();
+    /// scene.spheres = scene.spheres.gathered(&order)?; // the caller's store in cell order
+    /// let after = query.first_contacts(&scene, options);
+    /// for (k, &i) in order.iter().enumerate() {
+    ///     assert_eq!(after[k].map(|c| c.time), before[i as usize].map(|c| c.time));
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn cell_order(&self) -> &[u32] {
+        if self.stats.grid {
+            self.grid.order()
+        } else {
+            &[]
+        }
+    }
+
     /// What the last call did.
     ///
     /// ```

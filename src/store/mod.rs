@@ -431,6 +431,36 @@ impl SphereStore {
         }
     }
 
+    /// A new store of the spheres at `indices`, in that order (`indices[k]` goes to position
+    /// `k`): e.g. a store kept in a scene query's cell order
+    /// ([`SceneQuery::cell_order`](crate::query::SceneQuery::cell_order)), which the next
+    /// query then reads in sequence.
+    ///
+    /// # Errors
+    /// [`StoreError::IndexOutOfRange`] naming the first index the store does not hold.
+    ///
+    /// ```
+    /// use spheresweep::{Sphere, SphereStore};
+    /// let store: SphereStore = (0..3)
+    ///     .map(|k| Sphere::new([k as f32, 0.0, 0.0], [0.0; 3], 0.1, 1.0))
+    ///     .collect::<Result<_, _>>()?;
+    /// let reordered = store.gathered(&[2, 0, 1])?;
+    /// assert_eq!(reordered.get(0), store.get(2));
+    /// assert!(store.gathered(&[3]).is_err()); // names index 3 of a store of 3
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn gathered(&self, indices: &[u32]) -> Result<SphereStore, StoreError> {
+        let mut out = SphereStore::with_capacity(indices.len());
+        for &i in indices {
+            let sphere = self.get(i as usize).ok_or(StoreError::IndexOutOfRange {
+                index: i as usize,
+                len: self.len,
+            })?;
+            out.push(&sphere);
+        }
+        Ok(out)
+    }
+
     /// Moves sphere `i`'s centre at `t = 0` in place.
     ///
     /// # Errors
