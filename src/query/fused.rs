@@ -3,8 +3,8 @@
 //! copied into cell order, and each hit is kept where it is needed — the earliest per sphere
 //! (slots indexed by cell position, so the offers land in nearby memory) or the list of
 //! contacts. No list of all candidate pairs is ever held: memory is linear in the number of
-//! spheres for any window, and every stage runs on rayon with the same bits for any thread
-//! count (the slots keep a `min`, the contact list is sorted).
+//! spheres for any window. The pass runs on rayon with the same bits for any thread count:
+//! each thread keeps slots of its own, merged by `min`, and the contact list is sorted.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
