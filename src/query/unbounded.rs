@@ -34,6 +34,7 @@ impl SceneQuery {
     ) -> usize {
         let n = store.len();
         let mut window = first_window(store);
+        let reach = Reach::of(store);
         let (mut tested, mut before) = (0, n);
         let open = loop {
             let round = QueryOptions::new(window, options.accuracy())
@@ -48,8 +49,10 @@ impl SceneQuery {
             // The next round costs its grid and more candidates than this one (up to 8×: a
             // swept box's volume grows as T³); it pays if it closes about as many spheres as
             // this one did, each of which would otherwise cost a row of `n`.
-            let next_cost = (ROUND_COST * n) as u128 + 4 * (CANDIDATE_COST * candidates) as u128;
-            if open == 0 || !next.is_finite() || next_cost >= (closed * n) as u128 {
+            let next_cost =
+                (ROUND_COST * n) as u128 + 4 * (CANDIDATE_COST as u128) * candidates as u128;
+            let rows_saved = closed as u128 * n as u128;
+            if open == 0 || !reach.finite_at(next) || next_cost >= rows_saved {
                 break open;
             }
             window = next;
@@ -123,6 +126,35 @@ const ROUND_COST: usize = 30;
 /// `examples/unbounded_window`: about 7 ns, listed and gathered, against 1.5 ns).
 const CANDIDATE_COST: usize = 5;
 
+/// How far any sphere's swept box reaches from the origin, per unit of window: a round's
+/// window must keep every box finite (the grid's cells are computed in f32).
+struct Reach {
+    /// The largest `|c| + r` over coordinates and spheres.
+    at_rest: f32,
+    /// The largest `|v|` over coordinates and spheres.
+    speed: f32,
+}
+
+impl Reach {
+    fn of(store: &SphereStore) -> Reach {
+        let (mut at_rest, mut speed) = (0.0f32, 0.0f32);
+        for s in store.iter() {
+            let (c, v) = (
+                s.centre().abs().max_element(),
+                s.velocity().abs().max_element(),
+            );
+            at_rest = at_rest.max(c + s.radius());
+            speed = speed.max(v);
+        }
+        Reach { at_rest, speed }
+    }
+
+    /// Whether every swept box over `[0, window]` stays finite, with a factor of two to spare.
+    fn finite_at(&self, window: f32) -> bool {
+        (2.0 * (self.at_rest + self.speed * window)).is_finite()
+    }
+}
+
 /// Whether `c` is a contact strictly before `window` (then it is final; see the module docs).
 fn final_below(c: CompactContact, window: f32) -> bool {
     c.time().is_some_and(|t| t < window)
@@ -184,6 +216,19 @@ mod tests {
             }))
             .collect();
         super::super::scene_of(&spheres)
+    }
+
+    #[test]
+    fn a_window_stops_growing_before_a_box_would_overflow() {
+        let store = SphereStore::from_spheres(&[crate::Sphere::new(
+            [1e30, 0.0, 0.0],
+            [1e8, 0.0, 0.0],
+            1.0,
+            1.0,
+        )
+        .unwrap()]);
+        let reach = Reach::of(&store);
+        assert!(reach.finite_at(1e20) && !reach.finite_at(1e31));
     }
 
     #[test]
