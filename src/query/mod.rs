@@ -8,7 +8,7 @@
 //!    neighbours from nearby memory;
 //! 3. **fused pairs**: the grid hands its candidate pairs on a few thousand at a time and the
 //!    8-wide pair kernel runs on them at once; each hit goes straight to the two spheres'
-//!    slots (the earliest, as a [`CompactContact`]) or to the contact list ([`fused`]);
+//!    slots (the earliest, as a [`CompactContact`]) or to the contact list (`fused.rs`);
 //! 4. **statics**: every sphere against every plane, cylinder and container, 8 at a time; a
 //!    scene without shapes of a kind never runs that kind's kernel;
 //! 5. **answer**: the slots in the caller's order (8 bytes a sphere), or every contact sorted
@@ -18,7 +18,7 @@
 //! No stage holds a list of all candidate pairs, so memory is linear in the number of spheres
 //! whatever the window (plus the contacts themselves for [`all_contacts`]). An infinite window
 //! has unbounded swept boxes: it is answered by successive finite windows, then the brute
-//! force's rows for the spheres still open ([`unbounded`]), with the brute force's bits.
+//! force's rows for the spheres still open (`unbounded.rs`), with the brute force's bits.
 //! The passes run on rayon (all but the grid's counting sort, 2 % of the time); the answers
 //! are the same bits for any thread count.
 
