@@ -157,7 +157,8 @@ impl Slots {
 
     /// The plain slots become the least of the `workers` threads' slots, on rayon.
     pub(crate) fn merge_workers(&mut self, n: usize, workers: usize) {
-        self.plain.clear();
+        // Every slot is written below: only the length matters here, not a fill.
+        self.plain.truncate(n);
         self.plain.resize(n, CompactContact::NONE);
         let sets: Vec<&Vec<CompactContact>> = self.workers[..workers]
             .iter_mut()

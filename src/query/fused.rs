@@ -17,12 +17,6 @@ use crate::shape::ShapeKind;
 use crate::store::SphereStore;
 
 impl SceneQuery {
-    /// Stages 1–2: the cells for the window and the spheres copied into cell order (by the
-    /// grid's own gather, which reads each sphere's record once for its box and its copy).
-    fn cells_and_records(&mut self, store: &SphereStore, t_max: f32) {
-        self.grid.build_cells(store, t_max, self.options);
-    }
-
     /// Each sphere's earliest contact with another sphere in the (finite) window, offered to
     /// `out` (scene order): `out[i]` becomes the lesser of what it held and that contact.
     /// Returns the number of candidate pairs.
@@ -33,7 +27,8 @@ impl SceneQuery {
         out: &mut [CompactContact],
     ) -> usize {
         let n = store.len();
-        self.cells_and_records(store, options.t_max());
+        // Stages 1–2: the cells, and the records in cell order (the grid's gather copies them).
+        self.grid.build_cells(store, options.t_max(), self.options);
         let candidates = if self.grid.parallel() {
             self.offer_pairs_in_parallel(n, options)
         } else {
@@ -55,10 +50,8 @@ impl SceneQuery {
             candidates.fetch_add(pairs.len(), Ordering::Relaxed);
             let worker = rayon::current_thread_index().unwrap_or(0) % workers;
             let mut mine = slots.worker(worker);
-            listed_hits(sorted, pairs, options, &mut |[p, q], time| {
-                let (p, q) = (p as usize, q as usize);
-                mine[p] = mine[p].min(CompactContact::sphere(time, order[q]));
-                mine[q] = mine[q].min(CompactContact::sphere(time, order[p]));
+            listed_hits(sorted, pairs, options, &mut |pair, time| {
+                offer_both(&mut mine, order, pair, time);
             });
         });
         self.slots.merge_workers(n, workers);
@@ -72,10 +65,8 @@ impl SceneQuery {
         let mut candidates = 0;
         self.grid.visit_pairs_mut(&mut |pairs| {
             candidates += pairs.len();
-            listed_hits(sorted, pairs, options, &mut |[p, q], time| {
-                let (p, q) = (p as usize, q as usize);
-                slots[p] = slots[p].min(CompactContact::sphere(time, order[q]));
-                slots[q] = slots[q].min(CompactContact::sphere(time, order[p]));
+            listed_hits(sorted, pairs, options, &mut |pair, time| {
+                offer_both(slots, order, pair, time);
             });
         });
         candidates
@@ -89,7 +80,8 @@ impl SceneQuery {
         options: QueryOptions,
         events: &mut Vec<ContactEvent>,
     ) -> usize {
-        self.cells_and_records(store, options.t_max());
+        // Stages 1–2: the cells, and the records in cell order (the grid's gather copies them).
+        self.grid.build_cells(store, options.t_max(), self.options);
         let (order, sorted) = (self.grid.order(), self.grid.sorted_spheres());
         let found = Mutex::new(std::mem::take(events));
         let candidates = AtomicUsize::new(0);
@@ -111,11 +103,17 @@ impl SceneQuery {
 
     /// Heap bytes the query holds between calls (grid, records, slots, buffers).
     pub fn heap_bytes(&self) -> usize {
-        self.grid.heap_bytes()
-            + self.slots.heap_bytes()
-            + self.times.capacity() * 4
-            + self.compact.capacity() * 8
+        self.grid.heap_bytes() + self.slots.heap_bytes() + self.compact.capacity() * 8
     }
+}
+
+/// The contact of the spheres at cell positions `p` and `q` at `time`, offered to both their
+/// slots (each slot names the other sphere by its scene index, `order[position]`).
+#[inline(always)]
+fn offer_both(slots: &mut [CompactContact], order: &[u32], [p, q]: [u32; 2], time: f32) {
+    let (p, q) = (p as usize, q as usize);
+    slots[p] = slots[p].min(CompactContact::sphere(time, order[q]));
+    slots[q] = slots[q].min(CompactContact::sphere(time, order[p]));
 }
 
 /// The contact of spheres `i` and `j` at `time`, the lower index first.

@@ -132,8 +132,6 @@ pub struct SceneQuery {
     options: GridOptions,
     /// Each sphere's earliest contact with a sphere, by cell position.
     slots: Slots,
-    /// One static shape's times for every sphere.
-    times: Vec<f32>,
     /// The compact answer behind [`first_contacts_into`](Self::first_contacts_into).
     compact: Vec<CompactContact>,
     stats: QueryStats,
@@ -354,7 +352,6 @@ impl SceneQuery {
         self.record_stats(n, candidates, t_max);
         scene.statics.visit(&mut OfferStatics {
             out,
-            times: &mut self.times,
             store,
             options: options.with_geometry(false),
         });
@@ -438,11 +435,11 @@ fn offer(slot: &mut Option<FirstContact>, time: f32, body: Body) {
     }
 }
 
-/// Each sphere's contacts with each static shape, offered to its compact slot (one pass of
-/// the kernel per shape, the times into a reused buffer).
+/// Each sphere's earliest contact with each kind of static shape, offered to its compact slot
+/// ([`batch::earliest_static_contacts`]: every shape of the kind in one pass of the lane
+/// groups, shapes a group cannot reach skipped).
 struct OfferStatics<'a> {
     out: &'a mut [CompactContact],
-    times: &'a mut Vec<f32>,
     store: &'a SphereStore,
     options: QueryOptions,
 }
@@ -459,16 +456,10 @@ impl<P> Visitor<P> for OfferStatics<'_> {
             K::KIND.name(),
             MAX_INDEX as u64 + 1
         );
-        self.times.clear();
-        self.times.resize(self.store.len(), 0.0);
-        for (j, shape) in shapes.shapes().iter().enumerate() {
-            batch::static_times(self.store, shape, self.options, self.times)
-                .expect("one slot per sphere");
-            let body = Body::new(K::KIND, j as u32);
-            for (slot, &time) in self.out.iter_mut().zip(self.times.iter()) {
-                if time < f32::INFINITY {
-                    *slot = (*slot).min(CompactContact::key(time, body));
-                }
+        let hits = batch::earliest_static_contacts(self.store, shapes.shapes(), self.options);
+        for (slot, hit) in self.out.iter_mut().zip(hits) {
+            if let Some(hit) = hit {
+                *slot = (*slot).min(CompactContact::key(hit.time, hit.body));
             }
         }
     }
