@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::cells::{self, Cells};
 use super::checkpoint::world_fingerprint;
-use super::engine::Engine;
+use super::engine::{self, Engine};
 use super::invariant;
 use super::response::{self, Elastic, Materials, Motion, ReportOnly, Responder};
 use super::run::{Clusters, Run};
@@ -43,7 +43,7 @@ impl Simulation {
         let fingerprint = world_fingerprint(&world);
         let n = world.spheres.len();
         reserve_memory(n)?;
-        let (cells, periodic) = grid(&world)?;
+        let (cells, periodic, delta) = grid(&world)?;
         let m = motion(&world, &cells, periodic);
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
@@ -59,6 +59,7 @@ impl Simulation {
         let parts = Parts {
             m,
             cells,
+            delta,
             walls,
             log: world.effects.record_events,
         };
@@ -103,11 +104,30 @@ fn reserve_memory(n: usize) -> Result<(), SimError> {
     Ok(())
 }
 
-/// The cell grid over the boundary (cells at least one largest diameter wide), and whether
-/// it wraps: a periodic box of at least three cells a side, an open box as given, or open
-/// space around the spheres and containers.
-fn grid(world: &World) -> Result<(Cells, bool), SimError> {
+/// The neighbour lists' shell, in largest diameters, for spheres filling a fraction `phi`
+/// of the grid's volume: a sphere's list reaches that far beyond contact, and it is rebuilt
+/// when the sphere has moved half of it. Half a diameter and the mean free path
+/// (`1 / (6√2 φ g)`, `g` Carnahan–Starling's contact value), at most one diameter: a dense
+/// fluid rebuilds rarely with short lists, a dilute gas would rebuild every few collisions
+/// with a short shell. Chosen by measurement across φ = 0.1–0.5 (docs/benchmarks.md,
+/// "Neighbour lists").
+pub(crate) fn shell(phi: f64) -> f64 {
+    let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
+    let free_path = 1.0 / (6.0 * std::f64::consts::SQRT_2 * phi * g);
+    (0.5 + free_path).min(1.0)
+}
+
+/// The cell grid over the boundary (cells at least one largest diameter and the shell wide),
+/// whether it wraps (a periodic box at least three largest diameters a side, an open box as
+/// given, or open space around the spheres and containers), and the shells' half-width.
+fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
     let n = world.spheres.len();
+    if n > engine::MAX_SPHERES {
+        return Err(SimError::State(format!(
+            "{n} spheres: the engine holds at most {}",
+            engine::MAX_SPHERES
+        )));
+    }
     let max_d = world
         .spheres
         .iter()
@@ -117,6 +137,13 @@ fn grid(world: &World) -> Result<(Cells, bool), SimError> {
         max_d * (1.0 + 1e-6)
     } else {
         1.0
+    };
+    let shells = |extent: DVec3| {
+        let volume: f64 = world.spheres.iter().map(|s| s.radius.powi(3)).sum::<f64>()
+            * (4.0 / 3.0 * std::f64::consts::PI);
+        let phi = (volume / extent.x / extent.y / extent.z).clamp(0.0, 0.74);
+        let delta = shell(phi) * min_width / 2.0;
+        (delta, min_width + 2.0 * delta * (1.0 + 1e-6))
     };
     Ok(match world.boundary {
         Boundary::Periodic { size } => {
@@ -129,19 +156,17 @@ fn grid(world: &World) -> Result<(Cells, bool), SimError> {
                     });
                 }
             }
-            // At most about four cells per sphere (and 27, three a side, at least): a
-            // sparse box gets wider cells, not a huge grid.
-            let cells = Cells::new(DVec3::ZERO, size, min_width, (4 * n).max(27), n);
-            if cells.n.iter().any(|&k| k < 3) {
-                return Err(SimError::Box {
-                    axis: "x, y or z",
-                    length: size.min_element(),
-                    needed: 3.0 * min_width,
-                });
-            }
-            (cells, true)
+            // At most about four cells per sphere: a sparse box gets wider cells, not a huge
+            // grid. A small box may have fewer than three a side: the lists then hold each
+            // periodic image apart.
+            let (delta, width) = shells(size);
+            let cells = Cells::new(DVec3::ZERO, size, width, (4 * n).max(27), n);
+            (cells, true, delta)
         }
-        Boundary::OpenBox { lo, hi } => (Cells::new(lo, hi - lo, min_width, 2 * n + 64, n), false),
+        Boundary::OpenBox { lo, hi } => {
+            let (delta, width) = shells(hi - lo);
+            (Cells::new(lo, hi - lo, width, 2 * n + 64, n), false, delta)
+        }
         Boundary::Open => {
             let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
             for s in &world.spheres {
@@ -156,7 +181,9 @@ fn grid(world: &World) -> Result<(Cells, bool), SimError> {
                 (lo, hi) = (DVec3::ZERO, DVec3::ONE);
             }
             let extent = (hi - lo).max(DVec3::splat(min_width));
-            (Cells::new(lo, extent, min_width, 2 * n + 64, n), false)
+            let (delta, width) = shells(extent);
+            let extent = extent.max(DVec3::splat(width));
+            (Cells::new(lo, extent, width, 2 * n + 64, n), false, delta)
         }
     })
 }
@@ -249,6 +276,8 @@ struct Switches {
 struct Parts {
     m: Motion,
     cells: Cells,
+    /// The shells' half-width.
+    delta: f64,
     walls: Statics<u16>,
     log: bool,
 }
@@ -289,13 +318,16 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
     let Parts {
         m,
         cells,
+        delta,
         walls,
         log,
     } = parts;
     if s.geometry {
-        Box::new(Engine::<R, P, W, true>::new(m, cells, walls, r, log))
+        Box::new(Engine::<R, P, W, true>::new(m, cells, delta, walls, r, log))
     } else {
-        Box::new(Engine::<R, P, W, false>::new(m, cells, walls, r, log))
+        Box::new(Engine::<R, P, W, false>::new(
+            m, cells, delta, walls, r, log,
+        ))
     }
 }
 

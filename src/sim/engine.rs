@@ -1,12 +1,13 @@
 //! The event-driven engine: every collision in exact time order, one pending event per sphere
-//! in a calendar queue, cell crossings from the grid, lazy positions with a per-sphere time,
-//! and re-prediction of only the spheres an event touched.
+//! in a calendar queue, neighbour lists with a shell (`lists.rs`), lazy positions with a
+//! per-sphere time, and re-prediction of only the spheres an event touched.
 //!
 //! Stages of one event, in order (`step`): pop the earliest entry and drop it if stale
-//! (older version); then a cell crossing moves the sphere and looks only at the newly adjacent
-//! cells; a pair event whose partner changed since the prediction is predicted again; a real
-//! collision advances the bodies, applies the [`Responder`] and predicts every changed sphere
-//! against its neighbours, eight at a time (`predict`).
+//! (older version); then a shell event rebuilds the sphere's list from the cells around its
+//! new centre and predicts it against the entries new to it only; a pair event whose partner
+//! changed since the prediction is predicted again; a real collision advances the bodies,
+//! applies the [`Responder`] and predicts every changed sphere against its list, eight at a
+//! time (`predict`). The cell grid is touched only at shell events.
 //!
 //! The engine is generic over the response `R` and three switches fixed when it is assembled:
 //! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all) and `GEOMETRY` (contact point
@@ -15,7 +16,6 @@
 use glam::DVec3;
 
 use super::cells::{Cells, NONE};
-use super::predict::{PairBatch, refine};
 use super::queue::{Calendar, Entry};
 use super::response::{Motion, Outcome, Responder, Trajectory, Wall};
 use super::{EventRecord, SimError, Stats};
@@ -25,10 +25,13 @@ use crate::statics::Statics;
 
 #[cfg(test)]
 mod brute_check;
+mod lists;
 mod neighbours;
 mod state;
 
-pub(crate) use neighbours::Candidate;
+pub(crate) use super::predict::Candidate;
+pub(crate) use lists::MAX_SPHERES;
+use lists::{NeighbourLists, shell_exit};
 use neighbours::merge;
 
 /// What a sphere's pending event is.
@@ -42,10 +45,8 @@ pub(crate) struct Best {
     /// Earliest static-shape contact.
     pub wall_t: f64,
     pub wall: Body,
-    /// Next cell crossing: axis and direction.
-    pub cross_t: f64,
-    pub cross_axis: u8,
-    pub cross_up: bool,
+    /// When the sphere leaves its shell (its list is then rebuilt).
+    pub shell_t: f64,
 }
 
 impl Default for Best {
@@ -55,9 +56,7 @@ impl Default for Best {
             complete: true,
             wall_t: f64::INFINITY,
             wall: Body::new(ShapeKind::Plane, 0),
-            cross_t: f64::INFINITY,
-            cross_axis: 0,
-            cross_up: false,
+            shell_t: f64::INFINITY,
         }
     }
 }
@@ -65,7 +64,7 @@ impl Default for Best {
 impl Best {
     #[inline]
     fn time(&self) -> f64 {
-        self.pairs[0].t.min(self.wall_t).min(self.cross_t)
+        self.pairs[0].t.min(self.wall_t).min(self.shell_t)
     }
 }
 
@@ -80,17 +79,22 @@ pub(crate) struct Engine<
     pub best: Vec<Best>,
     version: Vec<u32>,
     pub cells: Cells,
+    /// Each sphere's neighbour list and shell centre.
+    lists: NeighbourLists,
+    /// The periodic shift of each list entry's shift code.
+    shift: [DVec3; 27],
     queue: Calendar,
     pub now: f64,
     pub walls: Statics<u16>,
     pub responder: R,
     pub stats: Stats,
     pub log: Option<Vec<EventRecord>>,
-    batch: PairBatch,
-    near: Vec<(u32, u8)>,
-    /// Per stencil image of the current prediction: its shift minus the sphere's centre.
-    offsets: [DVec3; 27],
-    candidates: Vec<usize>,
+    /// A rebuild's entries within reach, and those of them new to the sphere.
+    found: Vec<u32>,
+    fresh: Vec<u32>,
+    /// Whether a sphere is at most once in any list (three cells a side, or an open domain),
+    /// so that a rebuild may predict the entries new to it alone.
+    once_per_list: bool,
     outcome: Outcome,
     /// The stall watchdog: events since time last advanced by at least `min_progress`.
     same_time: u64,
@@ -120,10 +124,10 @@ pub(crate) struct Engine<
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
 /// from the sizes of its arrays (the ones [`Engine::bytes`] counts) as [`Engine::new`] sizes
-/// them: per sphere its body, mass, material, counter, prediction, version, order, cell entry
-/// and a pending calendar entry; one calendar bucket per sphere (rounded up to a power of
-/// two) holding up to four entries, and eight slots per cell. Known before anything is
-/// allocated.
+/// them: per sphere its body, mass, material, counter, prediction, version, order, cell entry,
+/// shell centre, a list of [`LIST_ESTIMATE`] entries and a pending calendar entry; one
+/// calendar bucket per sphere (rounded up to a power of two) holding up to four entries, and
+/// eight slots per cell. Known before anything is allocated.
 pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
     use std::mem::size_of;
     let per_sphere = size_of::<Trajectory>()
@@ -136,6 +140,10 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         // The grid's `slot_of` and `at` (cells.rs).
         + size_of::<u32>()
         + size_of::<[i32; 3]>()
+        // The shell centre, the list's count and rebuild mark, its entries.
+        + size_of::<DVec3>()
+        + 2 * size_of::<u32>()
+        + LIST_ESTIMATE * size_of::<u32>()
         // Its pending entry where the buckets do not hold it (the heap, the far list).
         + size_of::<Entry>();
     // The grid's eight `slots` and one `count` per cell, as `Cells::new` makes them.
@@ -148,13 +156,36 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         .saturating_add(max_cells.saturating_mul(per_cell))
 }
 
+/// List entries per sphere the estimate counts: a list holds about `8φ(1 + s)³` entries at
+/// volume fraction `φ` with shell `s` (times the largest diameter), 14 at φ = 0.5.
+const LIST_ESTIMATE: usize = 24;
+
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
     Engine<R, PERIODIC, WALLS, GEOMETRY>
 {
-    /// Assembles the engine at time 0 and predicts every sphere.
-    pub fn new(m: Motion, cells: Cells, walls: Statics<u16>, responder: R, log: bool) -> Self {
+    /// Assembles the engine at time 0 with shells of half-width `delta`, builds every list
+    /// and predicts every sphere.
+    pub fn new(
+        m: Motion,
+        cells: Cells,
+        delta: f64,
+        walls: Statics<u16>,
+        responder: R,
+        log: bool,
+    ) -> Self {
         let n = m.bodies.len();
+        let centres = m
+            .bodies
+            .iter()
+            .map(|b| lists::Shell {
+                c: b.r,
+                radius: b.radius,
+            })
+            .collect();
         let mut e = Self {
+            lists: NeighbourLists::new(delta, centres),
+            shift: lists::shifts(cells.len, PERIODIC),
+            once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             best: vec![Best::default(); n],
             version: vec![0; n],
             cells,
@@ -164,10 +195,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             responder,
             stats: Stats::default(),
             log: log.then(Vec::new),
-            batch: PairBatch::default(),
-            near: Vec::new(),
-            offsets: [DVec3::ZERO; 27],
-            candidates: Vec::new(),
+            found: Vec::new(),
+            fresh: Vec::new(),
             outcome: Outcome::default(),
             same_time: 0,
             stall_limit: 1_000_000 + 1000 * n as u64,
@@ -193,6 +222,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             let c = e.cells.coords_of(e.m.bodies[i as usize].r);
             e.cells.insert(i, c);
         }
+        e.build_lists();
         for i in 0..n as u32 {
             e.predict(i);
         }
@@ -290,8 +320,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     #[inline]
     fn step(&mut self, i: u32) {
         let b = self.best[i as usize];
-        if b.cross_t <= b.pairs[0].t && b.cross_t <= b.wall_t {
-            self.cross(i, b);
+        if b.shell_t <= b.pairs[0].t && b.shell_t <= b.wall_t {
+            self.leave_shell(i);
         } else if b.pairs[0].t <= b.wall_t {
             let c = b.pairs[0];
             if self.m.counter[c.j as usize] == c.counter {
@@ -327,39 +357,40 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         !b.pairs[0].t.is_finite() && !b.complete
     }
 
-    /// Sphere `i` crosses into the next cell: the new cell, the newly adjacent cells only, and
-    /// the kept candidates.
-    fn cross(&mut self, i: u32, b: Best) {
+    /// Sphere `i` leaves its shell: its centre moves to where it is (into the box, periodic),
+    /// its list is rebuilt, and it is predicted against the entries new to it (the others are
+    /// covered by the candidates it keeps or by their own predictions).
+    fn leave_shell(&mut self, i: u32) {
         self.stats.crossings += 1;
         self.m.advance(i, self.now);
-        let axis = usize::from(b.cross_axis);
-        let mut c = self.cells.at[i as usize];
-        let step = if b.cross_up { 1 } else { -1 };
-        c[axis] += step;
         if PERIODIC {
-            let n = self.cells.n[axis];
-            let len = self.cells.len[axis];
-            let r = &mut self.m.bodies[i as usize].r[axis];
-            if c[axis] == n {
-                c[axis] = 0;
-                *r -= len;
-                self.images[i as usize][axis] += 1;
-            } else if c[axis] < 0 {
-                c[axis] = n - 1;
-                *r += len;
-                self.images[i as usize][axis] -= 1;
+            let len = self.cells.len;
+            let r = &mut self.m.bodies[i as usize].r;
+            for k in 0..3 {
+                if r[k] < 0.0 {
+                    r[k] += len[k];
+                    self.images[i as usize][k] -= 1;
+                } else if r[k] >= len[k] {
+                    r[k] -= len[k];
+                    self.images[i as usize][k] += 1;
+                }
             }
         }
-        self.cells.remove(i);
-        self.cells.insert(i, c);
-        if self.prune(i) {
+        let r = self.m.bodies[i as usize].r;
+        self.lists.centre[i as usize].c = r;
+        let c = self.cells.coords_of(r);
+        if c != self.cells.at[i as usize] {
+            self.cells.remove(i);
+            self.cells.insert(i, c);
+        }
+        self.rebuild_list(i);
+        if self.prune(i) || !self.once_per_list {
             self.predict(i);
         } else {
-            // Only the layer of cells the sphere now reaches.
-            let (fresh, fresh_complete) = self.predict_pairs(i, Some((axis, step)));
+            let (fresh, fresh_complete) = self.predict_pairs(i, true);
             let bi = &mut self.best[i as usize];
             (bi.pairs, bi.complete) = merge((bi.pairs, bi.complete), (fresh, fresh_complete));
-            self.predict_crossing(i);
+            self.predict_shell(i);
         }
         self.schedule(i);
     }
@@ -471,11 +502,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         }
     }
 
-    /// Predicts sphere `i`'s next pair contact, static contact and cell crossing from now.
+    /// Predicts sphere `i`'s next pair contact, static contact and shell event from now.
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.m.advance(i, self.now);
-        let (pairs, complete) = self.predict_pairs(i, None);
+        let (pairs, complete) = self.predict_pairs(i, false);
         self.best[i as usize] = Best {
             pairs,
             complete,
@@ -497,34 +528,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             best.wall_t = self.now + t;
             best.wall = wall;
         }
-        self.predict_crossing(i);
+        self.predict_shell(i);
     }
 
-    /// The next cell boundary sphere `i` (advanced to now) reaches.
+    /// When sphere `i` (advanced to now) leaves its shell.
     #[inline]
-    fn predict_crossing(&mut self, i: u32) {
+    fn predict_shell(&mut self, i: u32) {
         let b = self.m.bodies[i as usize];
-        let c = self.cells.at[i as usize];
-        let (lo, w, n) = (self.cells.lo, self.cells.w, self.cells.n);
-        let mut best = (f64::INFINITY, 0u8, false);
-        for k in 0..3 {
-            let v = b.v[k];
-            let t = if v > 0.0 && (PERIODIC || c[k] < n[k] - 1) {
-                (lo[k] + f64::from(c[k] + 1) * w[k] - b.r[k]) / v
-            } else if v < 0.0 && (PERIODIC || c[k] > 0) {
-                (lo[k] + f64::from(c[k]) * w[k] - b.r[k]) / v
-            } else {
-                continue;
-            };
-            let t = t.max(0.0);
-            if t < best.0 {
-                best = (t, k as u8, v > 0.0);
-            }
-        }
-        let bi = &mut self.best[i as usize];
-        bi.cross_t = self.now + best.0;
-        bi.cross_axis = best.1;
-        bi.cross_up = best.2;
+        let p = b.r - self.lists.centre[i as usize].c;
+        self.best[i as usize].shell_t = self.now + shell_exit(p, b.v, self.lists.delta);
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
@@ -561,13 +573,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             + b(&self.id_of)
             + self.cells.bytes()
             + self.queue.bytes()
-            + b(&self.near)
-            + b(&self.candidates)
+            + self.lists.bytes()
+            + b(&self.found)
+            + b(&self.fresh)
     }
 
     /// Renumbers the spheres in cell order (then by index, so the result is deterministic):
-    /// every per-sphere array, the candidates' partners, the response's state and the cells
-    /// follow, and the calendar is rebuilt from each sphere's pending event.
+    /// every per-sphere array, the candidates' partners, the lists, the response's state and
+    /// the cells follow, and the calendar is rebuilt from each sphere's pending event.
     fn reorder(&mut self) {
         let n = self.m.bodies.len();
         let mut order: Vec<u32> = (0..n as u32).collect();
@@ -600,6 +613,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         if PERIODIC {
             self.images = take(&self.images, &order);
         }
+        self.lists.permute(&order, &new_of_old);
         self.responder.permute(&new_of_old);
         self.reschedule();
     }

@@ -56,7 +56,7 @@ pub struct EventGeometry {
 ///     effects: Effects { record_events: true, geometry: true, ..Effects::default() },
 ///     ..World::default()
 /// };
-/// use spheresweep::{Body, ShapeKind};
+/// use spheresweep::ShapeKind;
 /// let mut sim = Simulation::new(world)?;
 /// sim.advance_to(2.0)?;
 /// let events = sim.take_events();
@@ -64,7 +64,11 @@ pub struct EventGeometry {
 /// let e = events[0];
 /// assert!((e.time - 1.0).abs() < 1e-12 && (e.approach - 2.0).abs() < 1e-12);
 /// assert_eq!((e.restitution, e.energy_lost), (1.0, 0.0));
-/// assert_eq!((e.sphere, e.other), (0, Body::new(ShapeKind::Sphere, 1)));
+/// // The event is the one sphere whose prediction found the contact; the other is its partner.
+/// assert_eq!(e.other.kind, ShapeKind::Sphere);
+/// let mut pair = [e.sphere, e.other.index];
+/// pair.sort();
+/// assert_eq!(pair, [0, 1]);
 /// # Ok::<(), spheresweep::sim::SimError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -14,6 +14,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// move together and are never in each other's events: they are checked to stay at their
     /// distance.
     pub(super) fn check_invariant(&self, s: u32) {
+        self.check_lists(s);
         use crate::sim::OVERLAP_TOLERANCE;
         let n = self.m.bodies.len();
         let len = self.cells.len;
@@ -65,6 +66,72 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                     -gap,
                     self.scheduled[i]
                 );
+            }
+        }
+    }
+
+    /// Test-only: after the event of sphere `s`, every sphere is inside its shell, and every
+    /// pair whose shell centres are within reach (any periodic image, by brute force over all
+    /// pairs and all 27 shifts, not through the cells) is in both lists with that image, and
+    /// no list names a sphere twice with one image or names its own sphere. A pair missing from
+    /// a list is a collision nobody predicts.
+    fn check_lists(&self, s: u32) {
+        use super::lists::{entry, mirror};
+        let n = self.m.bodies.len();
+        let l = &self.lists;
+        for i in 0..n {
+            let b = &self.m.bodies[i];
+            let away = (b.r + b.v * (self.now - b.t) - l.centre[i].c).length();
+            assert!(
+                away <= l.delta * (1.0 + super::lists::REACH_MARGIN),
+                "after the event of sphere {s} at t = {}: sphere {i} is {away} from its shell \
+                 centre, beyond {}",
+                self.now,
+                l.delta
+            );
+            let list = l.of(i as u32);
+            let mut sorted = list.to_vec();
+            sorted.sort_unstable();
+            sorted.dedup();
+            assert_eq!(
+                sorted.len(),
+                list.len(),
+                "sphere {i}'s list repeats an entry"
+            );
+        }
+        let codes: &[u8] = if PERIODIC {
+            &[
+                0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22,
+                23, 24, 25, 26,
+            ]
+        } else {
+            &[super::lists::NO_SHIFT]
+        };
+        for i in 0..n {
+            assert!(
+                l.of(i as u32)
+                    .iter()
+                    .all(|&e| super::lists::split(e).0 as usize != i),
+                "sphere {i}'s list names itself"
+            );
+            for j in i + 1..n {
+                for &code in codes {
+                    let (si, sj) = (l.centre[i], l.centre[j]);
+                    let dr = (sj.c - si.c) + self.shift[usize::from(code)];
+                    let d = si.radius + sj.radius + l.reach;
+                    if dr.length_squared() > d * d {
+                        continue;
+                    }
+                    let (i, j) = (i as u32, j as u32);
+                    assert!(
+                        l.of(i).contains(&entry(j, code))
+                            && l.of(j).contains(&entry(i, mirror(code))),
+                        "after the event of sphere {s} at t = {}: spheres {i} and {j} (shift \
+                         {code}) are {} apart, within reach {d}, and missing from a list",
+                        self.now,
+                        dr.length()
+                    );
+                }
             }
         }
     }

@@ -1,30 +1,10 @@
-//! Sphere `i`'s neighbours, predicted in named stages: gather (the 27 cells around it, or
-//! the 9 newly adjacent after a crossing, with their periodic images), screen eight at a time
-//! in f32, settle the survivors in f64; the two earliest contacts are kept.
+//! Sphere `i`'s neighbours: its list rebuilt from the cells around its shell centre at its
+//! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
+//! four at a time; the two earliest are kept (`predict_pairs`).
 
+use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
-
-/// A predicted pair contact: when, with whom, and the partner's counter at the prediction (the
-/// prediction is stale once the partner's velocity has changed).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Candidate {
-    pub t: f64,
-    pub j: u32,
-    pub counter: u32,
-}
-
-impl Candidate {
-    pub(super) const NONE: Self = Self {
-        t: f64::INFINITY,
-        j: NONE,
-        counter: 0,
-    };
-
-    #[inline]
-    pub(super) fn before(&self, o: &Self) -> bool {
-        self.t < o.t || (self.t == o.t && self.j < o.j)
-    }
-}
+use crate::sim::predict::{Group, Kept};
 
 /// The two earliest of two sorted candidate lists and whether the result holds every
 /// candidate. An incomplete list only bounds what it left out (no earlier than its last kept
@@ -64,192 +44,29 @@ pub(super) fn merge(
     (out, complete)
 }
 
-/// Every stencil image `x + 3y + 9z` (offsets `x − 1`, `y − 1`, `z − 1`).
-const ALL_IMAGES: [u8; 27] = {
-    let mut a = [0u8; 27];
-    let mut k = 0;
-    while k < 27 {
-        a[k] = k as u8;
-        k += 1;
-    }
-    a
-};
-
-/// The nine images of the layer a crossing reaches, per axis and direction (`2·axis + up`).
-const LAYER_IMAGES: [[u8; 9]; 6] = {
-    let mut t = [[0u8; 9]; 6];
-    let mut axis = 0;
-    while axis < 3 {
-        let mut up = 0;
-        while up < 2 {
-            let (mut k, mut m) = (0usize, 0usize);
-            while k < 27 {
-                let o = [k % 3, k / 3 % 3, k / 9];
-                if o[axis] == 2 * up {
-                    t[2 * axis + up][m] = k as u8;
-                    m += 1;
-                }
-                k += 1;
-            }
-            up += 1;
-        }
-        axis += 1;
-    }
-    t
-};
-
 impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
     Engine<R, PERIODIC, WALLS, GEOMETRY>
 {
-    /// Gathers sphere `i`'s neighbours (all 27 cells, or the 9 newly adjacent after a crossing
-    /// along `layer`), screens them eight at a time; returns the two earliest contacts and
-    /// whether there were no others. The stages: gather, screen (f32), settle (f64).
-    pub(super) fn predict_pairs(
-        &mut self,
-        i: u32,
-        layer: Option<(usize, i32)>,
-    ) -> ([Candidate; 2], bool) {
+    /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
+    /// `fresh` holds, new to it at its shell event) and whether there were no others: each
+    /// approaching neighbour goes into a lane group, answered in f64 four at a time.
+    pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
         let bi = self.m.bodies[i as usize];
-        self.gather_neighbours(i, &bi, layer);
-        let count = self.screen_neighbours(i, &bi);
-        self.stats.kernels.sphere += count as u64;
-        if count == 0 {
-            return ([Candidate::NONE; 2], true);
-        }
-        self.settle_candidates(&bi)
-    }
-
-    /// The neighbours of sphere `i` (body `bi`) into `near` as (index, image), and each
-    /// image's offset (its periodic shift minus `bi`'s centre) into `offsets`. Each
-    /// neighbour's cache line is touched here, so that the misses overlap (the loads are
-    /// independent) and the screen computes from lines already near.
-    fn gather_neighbours(&mut self, i: u32, bi: &Trajectory, layer: Option<(usize, i32)>) {
-        let ci = self.cells.at[i as usize];
-        let n = self.cells.n;
-        self.near.clear();
-        let interior = (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2);
-        let touch = if interior {
-            self.gather_interior(ci, bi, layer)
+        let list = if fresh_only {
+            &self.fresh[..]
         } else {
-            self.gather_at_edge(ci, bi, layer)
+            self.lists.of(i)
         };
-        std::hint::black_box(touch);
-    }
-
-    /// [`gather_neighbours`](Self::gather_neighbours) in a cell with no wrap and no edge: the
-    /// stencil is a fixed table of index deltas. Returns the touched values' sum.
-    fn gather_interior(
-        &mut self,
-        ci: [i32; 3],
-        bi: &Trajectory,
-        layer: Option<(usize, i32)>,
-    ) -> f64 {
-        let mut touch = 0.0;
-        let base = self.cells.index(ci);
-        let images: &[u8] = match layer {
-            None => &ALL_IMAGES,
-            Some((axis, step)) => &LAYER_IMAGES[2 * axis + usize::from(step > 0)],
-        };
-        for &image in images {
-            let cell = base.wrapping_add_signed(self.cells.delta[usize::from(image)]);
-            let members = self.cells.members(cell);
-            if members.is_empty() {
-                continue;
-            }
-            self.offsets[usize::from(image)] = -bi.r;
-            for &j in members {
-                touch += self.m.bodies[j as usize].t;
-                self.near.push((j, image));
-            }
-        }
-        touch
-    }
-
-    /// [`gather_neighbours`](Self::gather_neighbours) in a cell at the domain's edge: per axis
-    /// the neighbour cells wrap (periodic, with an image shift) or are skipped (open).
-    /// Returns the touched values' sum.
-    fn gather_at_edge(
-        &mut self,
-        ci: [i32; 3],
-        bi: &Trajectory,
-        layer: Option<(usize, i32)>,
-    ) -> f64 {
-        let (n, len) = (self.cells.n, self.cells.len);
-        // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 when outside an open
-        // domain) and the image shift.
-        let mut coord = [[0i32; 3]; 3];
-        let mut shift = [[0f64; 3]; 3];
-        for k in 0..3 {
-            for (o, d) in (-1..=1).enumerate() {
-                let mut c = ci[k] + d;
-                if c < 0 || c >= n[k] {
-                    if PERIODIC {
-                        let wrap = if c < 0 { 1 } else { -1 };
-                        c += wrap * n[k];
-                        shift[k][o] = -f64::from(wrap) * len[k];
-                    } else {
-                        c = -1;
-                    }
-                }
-                coord[k][o] = c;
-            }
-        }
-        // Which offsets to visit per axis.
-        let (mut ox, mut oy, mut oz) = (0..3usize, 0..3usize, 0..3usize);
-        if let Some((axis, step)) = layer {
-            let o = (step + 1) as usize;
-            match axis {
-                0 => ox = o..o + 1,
-                1 => oy = o..o + 1,
-                _ => oz = o..o + 1,
-            }
-        }
-        let mut touch = 0.0;
-        let (nx, ny) = (n[0] as usize, n[1] as usize);
-        for z in oz {
-            let cz = coord[2][z];
-            if !PERIODIC && cz < 0 {
-                continue;
-            }
-            for y in oy.clone() {
-                let cy = coord[1][y];
-                if !PERIODIC && cy < 0 {
-                    continue;
-                }
-                let row = (cz as usize * ny + cy as usize) * nx;
-                for x in ox.clone() {
-                    let cx = coord[0][x];
-                    if !PERIODIC && cx < 0 {
-                        continue;
-                    }
-                    let members = self.cells.members(row + cx as usize);
-                    if members.is_empty() {
-                        continue;
-                    }
-                    let image = x + 3 * y + 9 * z;
-                    self.offsets[image] = DVec3::new(shift[0][x], shift[1][y], shift[2][z]) - bi.r;
-                    for &j in members {
-                        touch += self.m.bodies[j as usize].t;
-                        self.near.push((j, image as u8));
-                    }
-                }
-            }
-        }
-        touch
-    }
-
-    /// The f32 screen of the gathered neighbours against sphere `i` (body `bi`), eight at a
-    /// time; returns how many pairs it ran.
-    fn screen_neighbours(&mut self, i: u32, bi: &Trajectory) -> usize {
         let now = self.now;
-        self.batch.start(self.near.len());
-        for &(j, image) in &self.near {
+        let (mut kept, mut group) = (Kept::default(), Group::default());
+        let mut count = 0u64;
+        for &e in list {
+            let (j, code) = split(e);
             let bj = &self.m.bodies[j as usize];
-            let r0 = bj.r + bj.v * (now - bj.t) + self.offsets[usize::from(image)];
+            let r0 = (bj.r - bi.r) + self.shift[usize::from(code)] + bj.v * (now - bj.t);
             let v = bj.v - bi.v;
             let d = bi.radius + bj.radius;
-            // Only an approaching pair (r0 · v < 0) can meet: the others are written but not
-            // counted (no branch to mispredict). The sphere itself has v = 0.
+            // Only an approaching pair (r0 · v < 0) can meet.
             let mut keep = r0.dot(v) < 0.0;
             if R::REPORT_ONLY {
                 // A pair already in contact is not reported again.
@@ -257,52 +74,120 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 keep &= !(q < d2 * (1.0 - 1e-9)
                     || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
             }
-            self.batch.push_if(keep, r0, v, d, j, image);
+            if keep && group.push(r0, v, d, j) {
+                count += 4;
+                kept.answer(&mut group, now, &self.m.counter);
+            }
         }
-        self.batch.finish();
-        self.batch.len()
+        if group.len() > 0 {
+            count += group.len() as u64;
+            kept.answer(&mut group, now, &self.m.counter);
+        }
+        self.stats.kernels.sphere += count;
+        kept.result()
     }
 
-    /// The screen's candidates settled in f64, four at a time: the two earliest contacts
-    /// with sphere `bi`, and whether there were no others (the screen kept them all, and at
-    /// most two settled).
-    fn settle_candidates(&mut self, bi: &Trajectory) -> ([Candidate; 2], bool) {
-        let now = self.now;
-        let mut complete = self.batch.candidates(&mut self.candidates);
-        let mut top = [Candidate::NONE; 2];
-        let mut found = 0;
-        for chunk in self.candidates.chunks(4) {
-            let mut r0 = [DVec3::ZERO; 4];
-            let mut v = [DVec3::ZERO; 4];
-            let mut d = [f64::NAN; 4];
-            for (lane, &k) in chunk.iter().enumerate() {
-                let (j, image) = self.batch.who[k];
-                let bj = &self.m.bodies[j as usize];
-                r0[lane] = bj.r + bj.v * (now - bj.t) + self.offsets[usize::from(image)];
-                v[lane] = bj.v - bi.v;
-                d[lane] = bi.radius + bj.radius;
+    /// Sphere `i`'s new list after its shell event (its centre already moved): off its old
+    /// neighbours' lists, then every sphere whose centre is within reach, both ways; the
+    /// entries that were not in the old list go into `fresh`.
+    pub(super) fn rebuild_list(&mut self, i: u32) {
+        let epoch = self.lists.next_epoch();
+        for k in 0..self.lists.of(i).len() {
+            let (j, _) = split(self.lists.of(i)[k]);
+            self.lists.remove(j, i);
+            self.lists.seen[j as usize] = epoch;
+        }
+        self.lists.clear(i);
+        self.within_reach(i);
+        self.fresh.clear();
+        for k in 0..self.found.len() {
+            let e = self.found[k];
+            let (j, code) = split(e);
+            self.lists.push(i, e);
+            self.lists.push(j, entry(i, mirror(code)));
+            if self.lists.seen[j as usize] != epoch {
+                self.fresh.push(e);
             }
-            let t = refine(r0, v, d);
-            for (lane, &k) in chunk.iter().enumerate() {
-                let j = self.batch.who[k].0;
-                found += usize::from(t[lane].is_finite());
-                if !t[lane].is_finite() {
-                    continue;
+        }
+    }
+
+    /// Builds every list from the centres alone (at the start and after loading a
+    /// checkpoint): the same lists the shell events keep, since the test is symmetric.
+    pub(super) fn build_lists(&mut self) {
+        for i in 0..self.m.bodies.len() as u32 {
+            self.lists.clear(i);
+            self.within_reach(i);
+            for k in 0..self.found.len() {
+                self.lists.push(i, self.found[k]);
+            }
+        }
+    }
+
+    /// Every sphere `j ≠ i` (with its image's shift code) whose shell centre is within
+    /// `dᵢⱼ + reach` of `i`'s, from the 27 cells around `i`'s, into `found`. The test
+    /// computes `(cⱼ − cᵢ) + shift`, the exact negative of what `j` computes for `i`, so the
+    /// lists are symmetric to the bit.
+    fn within_reach(&mut self, i: u32) {
+        let mut found = std::mem::take(&mut self.found);
+        found.clear();
+        let ci = self.cells.at[i as usize];
+        let n = self.cells.n;
+        let centre = &self.lists.centre[..];
+        let si = centre[i as usize];
+        let reach = self.lists.reach;
+        let mut scan = |members: &[u32], code: u8, shift: DVec3| {
+            for &j in members {
+                let sj = &centre[j as usize];
+                let dr = (sj.c - si.c) + shift;
+                let d = si.radius + sj.radius + reach;
+                if dr.length_squared() <= d * d && j != i {
+                    found.push(entry(j, code));
                 }
-                let c = Candidate {
-                    t: now + t[lane],
-                    j,
-                    counter: self.m.counter[j as usize],
-                };
-                if c.before(&top[0]) {
-                    top = [c, top[0]];
-                } else if c.before(&top[1]) {
-                    top[1] = c;
+            }
+        };
+        if (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2) {
+            let base = self.cells.index(ci);
+            for delta in self.cells.delta {
+                scan(
+                    self.cells.members(base.wrapping_add_signed(delta)),
+                    NO_SHIFT,
+                    DVec3::ZERO,
+                );
+            }
+        } else {
+            // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 outside an open
+            // domain) and the shift (0, 1, 2 for −1, 0, +1 box lengths).
+            let mut coord = [[0i32; 3]; 3];
+            let mut shift = [[1u8; 3]; 3];
+            for k in 0..3 {
+                for (o, d) in (-1..=1).enumerate() {
+                    let mut c = ci[k] + d;
+                    if c < 0 || c >= n[k] {
+                        if PERIODIC {
+                            let wrap = if c < 0 { 1 } else { -1 };
+                            c += wrap * n[k];
+                            shift[k][o] = (1 - wrap) as u8;
+                        } else {
+                            c = -1;
+                        }
+                    }
+                    coord[k][o] = c;
+                }
+            }
+            for z in 0..3 {
+                for y in 0..3 {
+                    for x in 0..3 {
+                        let c = [coord[0][x], coord[1][y], coord[2][z]];
+                        if c.iter().any(|&c| c < 0) {
+                            continue;
+                        }
+                        let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
+                        let members = self.cells.members(self.cells.index(c));
+                        scan(members, code, self.shift[usize::from(code)]);
+                    }
                 }
             }
         }
-        // A third contact settled in f64 is not kept either.
-        complete &= found <= 2;
-        (top, complete)
+        self.found = found;
     }
 }

@@ -1,7 +1,7 @@
 //! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
 //! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
 //! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
-//! cells' contents, the calendar). The layout is format version 2 (`sim::checkpoint`).
+//! cells' contents, the calendar). The layout is format version 3 (`sim::checkpoint`).
 
 use super::{Best, Candidate, Engine};
 use crate::contact::Body;
@@ -19,15 +19,14 @@ persist_fields!(Best {
     complete,
     wall_t,
     wall,
-    cross_t,
-    cross_axis,
-    cross_up
+    shell_t
 });
 
 /// The engine's state in checkpoint order, for both directions: `$each!(place)` on every
 /// value (`save` reads the place, `load` replaces it). Per sphere, in internal order, its
-/// counter, public index, cell and pending event sit together; the response's state follows
-/// (`Responder::save`). What is not listed is derived from it, or from the world.
+/// counter, public index, shell centre and pending event sit together; the response's state follows
+/// (`Responder::save`). What is not listed is derived from it (the cells and neighbour lists
+/// from the shell centres), or from the world.
 macro_rules! engine_state {
     ($engine:ident, $each:ident) => {
         $each!($engine.now);
@@ -35,7 +34,7 @@ macro_rules! engine_state {
         for k in 0..$engine.best.len() {
             $each!($engine.m.counter[k]);
             $each!($engine.id_of[k]);
-            $each!($engine.cells.at[k]);
+            $each!($engine.lists.centre[k].c);
             $each!($engine.best[k]);
         }
         for k in 0..$engine.images.len() {
@@ -142,20 +141,22 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         Ok(())
     }
 
-    /// One loaded sphere (internal index `k`): its cell in the grid, its partners and static
-    /// shape existing, its crossing inside an open grid, no event time NaN. A crossing axis
-    /// beyond `z` is read as `z`, as the format always has.
+    /// One loaded sphere (internal index `k`): within its shell (so that its list holds every
+    /// sphere it can meet before its shell event), its partners and static shape existing, no
+    /// event time NaN.
     fn check_sphere(&mut self, k: usize) -> Result<(), SimError> {
         let n = self.m.bodies.len();
         let id = self.id_of[k];
-        let c = self.cells.at[k];
-        for (a, &v) in c.iter().enumerate() {
-            if v < 0 || v >= self.cells.n[a] {
-                return Err(bad(format!("sphere {id}: cell {v} outside the grid")));
-            }
+        let (b, c) = (self.m.bodies[k], self.lists.centre[k].c);
+        let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
+        let away = (b.r - c).length();
+        if away.is_nan() || away > limit {
+            return Err(bad(format!(
+                "sphere {id}: {away} from its shell centre, beyond the shell's {}",
+                self.lists.delta
+            )));
         }
-        let b = &mut self.best[k];
-        b.cross_axis = b.cross_axis.min(2);
+        let b = self.best[k];
         for &Candidate { t, j, .. } in &b.pairs {
             if j != NONE && j as usize >= n {
                 return Err(bad(format!("sphere {id}: partner {j} does not exist")));
@@ -168,14 +169,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 )));
             }
         }
-        let b = *b;
         self.check_wall(id, b.wall, b.wall_t)?;
-        let axis = usize::from(b.cross_axis);
-        let next = c[axis] + if b.cross_up { 1 } else { -1 };
-        if !PERIODIC && b.cross_t != f64::INFINITY && (next < 0 || next >= self.cells.n[axis]) {
-            return Err(bad(format!("sphere {id}: a crossing out of the grid")));
-        }
-        if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.cross_t]
+        if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.shell_t]
             .iter()
             .any(|t| t.is_nan())
         {
@@ -197,7 +192,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     }
 
     /// What a checkpoint does not hold, rebuilt from the loaded state and the world: masses and
-    /// materials in internal order, the cells' contents, an empty log and a fresh calendar.
+    /// materials in internal order, the cells' contents, the neighbour lists, an empty log and
+    /// a fresh calendar.
     fn rebuild(&mut self, masses: &[f64], materials: &[u16]) {
         let n = self.m.bodies.len();
         self.m.mass = self.id_of.iter().map(|&id| masses[id as usize]).collect();
@@ -208,8 +204,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             .collect();
         self.cells.clear();
         for k in 0..n {
-            self.cells.insert(k as u32, self.cells.at[k]);
+            self.lists.centre[k].radius = self.m.bodies[k].radius;
+            let c = self.cells.coords_of(self.lists.centre[k].c);
+            self.cells.insert(k as u32, c);
         }
+        self.build_lists();
         if let Some(log) = &mut self.log {
             log.clear();
         }
@@ -245,9 +244,7 @@ mod tests {
             complete: false,
             wall_t: 3.5,
             wall: Body::new(ShapeKind::Cylinder, 9),
-            cross_t: 4.5,
-            cross_axis: 2,
-            cross_up: true,
+            shell_t: 4.5,
         };
         assert_ne!(best, Best::default());
         round_trip(&best);

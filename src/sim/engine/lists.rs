@@ -1,0 +1,273 @@
+//! Each sphere's neighbour list with a shell (the recipe of Smallenburg's EDMD, Eur. Phys. J. E
+//! 45, 22 (2022)): sphere `i` has a shell centre `cᵢ`, where it was when its list was last
+//! built, and stays within `δ` of it until its shell event. Its list holds every sphere `j`
+//! (with the periodic shift of `j`'s image) whose centre is within `dᵢⱼ + reach` of `cᵢ`,
+//! where `reach` is `2δ` and a little more. Two spheres that touch before either leaves its
+//! shell therefore have centres closer than that, so each is in the other's list. The lists
+//! are symmetric and change only when a sphere rebuilds its own.
+//! The bound and its rounding: docs/derivations/simulation.md, "Neighbour lists".
+
+use glam::DVec3;
+
+/// The shift code of no periodic shift (`x + 3y + 9z` with each of `x, y, z` in `0…2` for a
+/// shift of `−1, 0, +1` box lengths).
+pub(crate) const NO_SHIFT: u8 = 13;
+
+/// Bits of an entry that hold the shift code.
+const CODE_BITS: u32 = 5;
+
+/// The most spheres a list entry can name.
+pub(crate) const MAX_SPHERES: usize = 1 << (32 - CODE_BITS);
+
+/// A list entry: sphere `j` and the shift code of its image.
+#[inline(always)]
+pub(crate) fn entry(j: u32, code: u8) -> u32 {
+    j << CODE_BITS | u32::from(code)
+}
+
+/// The sphere and shift code of a list entry.
+#[inline(always)]
+pub(crate) fn split(e: u32) -> (u32, u8) {
+    (e >> CODE_BITS, (e & ((1 << CODE_BITS) - 1)) as u8)
+}
+
+/// The shift code seen from the other sphere (the shift negated).
+#[inline(always)]
+pub(crate) fn mirror(code: u8) -> u8 {
+    26 - code
+}
+
+/// The periodic shift of each code for box lengths `len` (all zero for an open domain).
+pub(crate) fn shifts(len: DVec3, periodic: bool) -> [DVec3; 27] {
+    std::array::from_fn(|code| {
+        if !periodic {
+            return DVec3::ZERO;
+        }
+        let s = [code % 3, code / 3 % 3, code / 9].map(|x| x as f64 - 1.0);
+        DVec3::from_array(s) * len
+    })
+}
+
+/// Time from now until a sphere at `p` from its shell centre, moving at `v`, is `delta` from
+/// it: the larger root of `‖p + v t‖² = δ²` (`‖p‖ ≤ δ`), in the form without cancellation;
+/// `+∞` at rest.
+#[inline]
+pub(crate) fn shell_exit(p: DVec3, v: DVec3, delta: f64) -> f64 {
+    let a = v.length_squared();
+    if a == 0.0 {
+        return f64::INFINITY;
+    }
+    let b = p.dot(v);
+    let c = (p.length_squared() - delta * delta).min(0.0);
+    let root = (b * b - a * c).max(0.0).sqrt();
+    let t = if b > 0.0 {
+        -c / (b + root)
+    } else {
+        (root - b) / a
+    };
+    t.max(0.0)
+}
+
+/// A sphere's shell centre and its radius, side by side: a rebuild reads one line per
+/// sphere it looks at.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct Shell {
+    pub c: DVec3,
+    pub radius: f64,
+}
+
+/// The lists, one run of slots per sphere, and the shell centres.
+#[derive(Debug, Clone)]
+pub(crate) struct NeighbourLists {
+    /// How far a sphere may move from its shell centre before its shell event.
+    pub delta: f64,
+    /// Added to a pair's contact distance for the list test: `2δ` and a rounding margin.
+    pub reach: f64,
+    /// Each sphere's shell centre (periodic centres inside the box) and radius.
+    pub centre: Vec<Shell>,
+    /// Slots per sphere (grows when a list fills).
+    cap: usize,
+    count: Vec<u32>,
+    entries: Vec<u32>,
+    /// Scratch for a rebuild: the epoch at which each sphere was last seen in the list being
+    /// replaced.
+    pub seen: Vec<u32>,
+    epoch: u32,
+}
+
+impl NeighbourLists {
+    /// Empty lists for `n` spheres with shells of half-width `delta`, centred at `centre`.
+    pub fn new(delta: f64, centre: Vec<Shell>) -> Self {
+        let n = centre.len();
+        let cap = 16;
+        Self {
+            delta,
+            reach: 2.0 * delta * (1.0 + REACH_MARGIN),
+            centre,
+            cap,
+            count: vec![0; n],
+            entries: vec![0; n * cap],
+            seen: vec![0; n],
+            epoch: 0,
+        }
+    }
+
+    /// A new rebuild's epoch (no sphere's `seen` holds it yet).
+    #[inline]
+    pub fn next_epoch(&mut self) -> u32 {
+        if self.epoch == u32::MAX {
+            self.seen.fill(0);
+            self.epoch = 0;
+        }
+        self.epoch += 1;
+        self.epoch
+    }
+
+    /// Sphere `i`'s entries.
+    #[inline(always)]
+    pub fn of(&self, i: u32) -> &[u32] {
+        let start = i as usize * self.cap;
+        &self.entries[start..start + self.count[i as usize] as usize]
+    }
+
+    /// Adds an entry to sphere `i`'s list.
+    #[inline]
+    pub fn push(&mut self, i: u32, e: u32) {
+        let k = self.count[i as usize] as usize;
+        if k == self.cap {
+            self.grow();
+        }
+        self.entries[i as usize * self.cap + k] = e;
+        self.count[i as usize] += 1;
+    }
+
+    /// Removes every entry naming sphere `j` from sphere `i`'s list (the last entry takes a
+    /// removed one's slot).
+    #[inline]
+    pub fn remove(&mut self, i: u32, j: u32) {
+        let start = i as usize * self.cap;
+        let mut len = self.count[i as usize] as usize;
+        let mut k = 0;
+        while k < len {
+            if split(self.entries[start + k]).0 == j {
+                len -= 1;
+                self.entries[start + k] = self.entries[start + len];
+            } else {
+                k += 1;
+            }
+        }
+        self.count[i as usize] = len as u32;
+    }
+
+    /// Empties sphere `i`'s list.
+    #[inline]
+    pub fn clear(&mut self, i: u32) {
+        self.count[i as usize] = 0;
+    }
+
+    /// Renumbers: sphere `new` takes old sphere `order[new]`'s centre and list, whose entries
+    /// name spheres by `new_of_old`.
+    pub fn permute(&mut self, order: &[u32], new_of_old: &[u32]) {
+        self.centre = order.iter().map(|&o| self.centre[o as usize]).collect();
+        let mut entries = vec![0u32; self.entries.len()];
+        let mut count = vec![0u32; self.count.len()];
+        for (new, &old) in order.iter().enumerate() {
+            let list = self.of(old);
+            count[new] = list.len() as u32;
+            for (slot, &e) in entries[new * self.cap..].iter_mut().zip(list) {
+                let (j, code) = split(e);
+                *slot = entry(new_of_old[j as usize], code);
+            }
+        }
+        (self.entries, self.count) = (entries, count);
+        self.seen.fill(0);
+        self.epoch = 0;
+    }
+
+    /// Bytes the lists and centres hold.
+    pub fn bytes(&self) -> usize {
+        (self.entries.capacity() + self.count.capacity() + self.seen.capacity()) * 4
+            + self.centre.capacity() * std::mem::size_of::<Shell>()
+    }
+
+    /// Makes room for four more entries per sphere (the lists keep their entries).
+    #[cold]
+    fn grow(&mut self) {
+        let cap = self.cap + 4;
+        let mut entries = vec![0u32; self.count.len() * cap];
+        for (i, &c) in self.count.iter().enumerate() {
+            let c = c as usize;
+            entries[i * cap..i * cap + c]
+                .copy_from_slice(&self.entries[i * self.cap..i * self.cap + c]);
+        }
+        self.entries = entries;
+        self.cap = cap;
+    }
+}
+
+/// The reach's margin over `2δ`, relative: far above the rounding of a shell event's time and
+/// position (a few ulps of `δ`, docs/derivations/simulation.md), far below anything that
+/// costs.
+pub(crate) const REACH_MARGIN: f64 = 1.0 / (1 << 20) as f64;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    #[test]
+    fn entries_round_trip_and_mirror() {
+        for (j, code) in [(0, 0), (5, 13), (MAX_SPHERES as u32 - 1, 26)] {
+            assert_eq!(split(entry(j, code)), (j, code));
+        }
+        let s = shifts(DVec3::new(2.0, 3.0, 5.0), true);
+        for code in 0..27u8 {
+            assert_eq!(s[usize::from(mirror(code))], -s[usize::from(code)]);
+        }
+        assert_eq!(s[usize::from(NO_SHIFT)], DVec3::ZERO);
+        assert!(shifts(DVec3::ONE, false).iter().all(|s| *s == DVec3::ZERO));
+    }
+
+    /// The exit time puts the sphere on the shell, from anywhere inside it, both ways.
+    #[test]
+    fn the_shell_exit_is_on_the_shell() {
+        let mut rng = Rng::new(3);
+        for _ in 0..10_000 {
+            let delta = 0.1 + rng.unit();
+            let p = rng.direction() * delta * rng.unit();
+            let v = rng.direction() * 10f64.powf(4.0 * rng.unit() - 2.0);
+            let t = shell_exit(p, v, delta);
+            let at = (p + v * t).length();
+            assert!(
+                (at - delta).abs() <= 1e-12 * delta,
+                "{p} {v}: {at} vs {delta}"
+            );
+        }
+        assert_eq!(shell_exit(DVec3::X, DVec3::ZERO, 2.0), f64::INFINITY);
+        // On the shell and leaving: now.
+        assert_eq!(shell_exit(DVec3::X, DVec3::X, 1.0), 0.0);
+    }
+
+    #[test]
+    fn lists_push_remove_grow_and_permute() {
+        let mut l = NeighbourLists::new(0.1, vec![Shell::default(); 3]);
+        for k in 0..40 {
+            l.push(1, entry(k % 3, (k % 27) as u8));
+        }
+        assert_eq!(l.of(1).len(), 40);
+        l.remove(1, 2);
+        assert_eq!(l.of(1).len(), 27);
+        assert!(l.of(1).iter().all(|&e| split(e).0 != 2));
+        l.push(0, entry(1, 4));
+        // Reversed order: new 0 is old 2, new 2 is old 0.
+        let order = [2, 1, 0];
+        l.permute(&order, &order);
+        assert_eq!(l.of(2), &[entry(1, 4)]);
+        assert_eq!(l.of(1).len(), 27);
+        assert!(l.of(1).iter().all(|&e| split(e).0 != 0));
+        assert!(l.of(0).is_empty());
+        l.clear(1);
+        assert!(l.of(1).is_empty());
+    }
+}
