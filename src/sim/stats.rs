@@ -72,7 +72,8 @@ pub struct Stats {
     pub pair_collisions: u64,
     /// Sphere–static-shape collisions.
     pub wall_collisions: u64,
-    /// Cell crossings.
+    /// Shell events: a sphere left its neighbour list's shell and rebuilt its list (the
+    /// name is the format's; it counted cell crossings before the lists).
     pub crossings: u64,
     /// Pair events dropped because the partner had changed since the prediction.
     pub stale: u64,

@@ -24,7 +24,7 @@ fn main() {
     let s = sim.stats();
     let per = |x: u64| x as f64 / s.pair_collisions.max(1) as f64;
     println!(
-        "{}: {} collisions, {:.0} per second; per collision {:.2} predictions, {:.2} crossings, {:.2} stale, {:.1} lanes; {} bytes per sphere; energy drift {:.1e}; largest overlap {:.1e}",
+        "{}: {} collisions, {:.0} per second; per collision {:.2} predictions, {:.2} shell events, {:.2} stale, {:.1} pairs answered; {} bytes per sphere; energy drift {:.1e}; largest overlap {:.1e}",
         sim.engine_name(),
         s.pair_collisions,
         s.pair_collisions as f64 / seconds,

@@ -278,7 +278,7 @@ fn sim_lines(lines: &mut Vec<Line>, args: &Args, progress: &ProgressBar) {
             ns: ours,
             peer_ns: peer,
             note: format!(
-                "{:.0} k/s; per collision: {:.2} predictions, {:.2} crossings, {:.1} lanes",
+                "{:.0} k/s; per collision: {:.2} predictions, {:.2} shell events, {:.1} pairs answered",
                 1e6 / ours,
                 per(s.predictions),
                 per(s.crossings),

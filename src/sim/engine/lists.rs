@@ -84,6 +84,9 @@ pub(crate) struct NeighbourLists {
     pub delta: f64,
     /// Added to a pair's contact distance for the list test: `2δ` and a rounding margin.
     pub reach: f64,
+    /// The widest list test, the largest diameter plus the reach, with a margin: no sphere
+    /// is listed by a centre farther than this.
+    pub far: f64,
     /// Each sphere's shell centre (periodic centres inside the box) and radius.
     pub centre: Vec<Shell>,
     /// Slots per sphere (grows when a list fills).
@@ -101,9 +104,12 @@ impl NeighbourLists {
     pub fn new(delta: f64, centre: Vec<Shell>) -> Self {
         let n = centre.len();
         let cap = 16;
+        let reach = 2.0 * delta * (1.0 + REACH_MARGIN);
+        let widest = centre.iter().map(|s| 2.0 * s.radius).fold(0.0, f64::max);
         Self {
             delta,
-            reach: 2.0 * delta * (1.0 + REACH_MARGIN),
+            reach,
+            far: (widest + reach) * (1.0 + REACH_MARGIN),
             centre,
             cap,
             count: vec![0; n],
@@ -142,22 +148,17 @@ impl NeighbourLists {
         self.count[i as usize] += 1;
     }
 
-    /// Removes every entry naming sphere `j` from sphere `i`'s list (the last entry takes a
-    /// removed one's slot).
+    /// Removes entry `e` from sphere `i`'s list (the last entry takes its slot); a list holds
+    /// an entry at most once.
     #[inline]
-    pub fn remove(&mut self, i: u32, j: u32) {
+    pub fn remove(&mut self, i: u32, e: u32) {
         let start = i as usize * self.cap;
-        let mut len = self.count[i as usize] as usize;
-        let mut k = 0;
-        while k < len {
-            if split(self.entries[start + k]).0 == j {
-                len -= 1;
-                self.entries[start + k] = self.entries[start + len];
-            } else {
-                k += 1;
-            }
+        let len = self.count[i as usize] as usize;
+        let list = &mut self.entries[start..start + len];
+        if let Some(k) = list.iter().position(|&x| x == e) {
+            list[k] = list[len - 1];
+            self.count[i as usize] -= 1;
         }
-        self.count[i as usize] = len as u32;
     }
 
     /// Empties sphere `i`'s list.
@@ -256,9 +257,14 @@ mod tests {
             l.push(1, entry(k % 3, (k % 27) as u8));
         }
         assert_eq!(l.of(1).len(), 40);
-        l.remove(1, 2);
+        for k in (0..40).filter(|k| k % 3 == 2) {
+            l.remove(1, entry(2, (k % 27) as u8));
+        }
         assert_eq!(l.of(1).len(), 27);
         assert!(l.of(1).iter().all(|&e| split(e).0 != 2));
+        // An entry not there changes nothing.
+        l.remove(1, entry(2, 0));
+        assert_eq!(l.of(1).len(), 27);
         l.push(0, entry(1, 4));
         // Reversed order: new 0 is old 2, new 2 is old 0.
         let order = [2, 1, 0];

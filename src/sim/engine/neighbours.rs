@@ -93,14 +93,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     pub(super) fn rebuild_list(&mut self, i: u32) {
         let epoch = self.lists.next_epoch();
         for k in 0..self.lists.of(i).len() {
-            let (j, _) = split(self.lists.of(i)[k]);
-            self.lists.remove(j, i);
+            let (j, code) = split(self.lists.of(i)[k]);
+            self.lists.remove(j, entry(i, mirror(code)));
             self.lists.seen[j as usize] = epoch;
         }
         self.lists.clear(i);
-        self.within_reach(i);
+        let found = self.within_reach(i);
         self.fresh.clear();
-        for k in 0..self.found.len() {
+        for k in 0..found {
             let e = self.found[k];
             let (j, code) = split(e);
             self.lists.push(i, e);
@@ -116,43 +116,59 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     pub(super) fn build_lists(&mut self) {
         for i in 0..self.m.bodies.len() as u32 {
             self.lists.clear(i);
-            self.within_reach(i);
-            for k in 0..self.found.len() {
+            let found = self.within_reach(i);
+            for k in 0..found {
                 self.lists.push(i, self.found[k]);
             }
         }
     }
 
     /// Every sphere `j ≠ i` (with its image's shift code) whose shell centre is within
-    /// `dᵢⱼ + reach` of `i`'s, from the 27 cells around `i`'s, into `found`. The test
+    /// `dᵢⱼ + reach` of `i`'s, from the 27 cells around `i`'s, into the first entries of
+    /// `found`; returns how many. The test
     /// computes `(cⱼ − cᵢ) + shift`, the exact negative of what `j` computes for `i`, so the
     /// lists are symmetric to the bit.
-    fn within_reach(&mut self, i: u32) {
+    fn within_reach(&mut self, i: u32) -> usize {
         let mut found = std::mem::take(&mut self.found);
-        found.clear();
         let ci = self.cells.at[i as usize];
         let n = self.cells.n;
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];
         let reach = self.lists.reach;
+        // Every member is written and only those within reach are counted: no branch to
+        // mispredict, so the members' loads overlap.
+        let mut len = 0;
         let mut scan = |members: &[u32], code: u8, shift: DVec3| {
+            if found.len() < len + members.len() {
+                found.resize(2 * (len + members.len()), 0);
+            }
             for &j in members {
                 let sj = &centre[j as usize];
                 let dr = (sj.c - si.c) + shift;
                 let d = si.radius + sj.radius + reach;
-                if dr.length_squared() <= d * d && j != i {
-                    found.push(entry(j, code));
-                }
+                found[len] = entry(j, code);
+                len += usize::from((dr.length_squared() <= d * d) & (j != i));
             }
         };
+        // Per axis and offset −1, 0, +1: the squared distance from the centre to the
+        // neighbour cell's slab (a lower bound for any centre in it, or its image). A cell
+        // farther than the widest reach holds nobody within reach (`far` has a margin above
+        // the faces' rounding).
+        let mut gap = [[0.0f64; 3]; 3];
+        for k in 0..3 {
+            let below = si.c[k] - (self.cells.lo[k] + f64::from(ci[k]) * self.cells.w[k]);
+            let above = self.cells.w[k] - below;
+            gap[k] = [below * below, 0.0, above * above];
+        }
+        let far = self.lists.far * self.lists.far;
+        let reachable = |x: usize, y: usize, z: usize| gap[0][x] + gap[1][y] + gap[2][z] <= far;
         if (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2) {
             let base = self.cells.index(ci);
-            for delta in self.cells.delta {
-                scan(
-                    self.cells.members(base.wrapping_add_signed(delta)),
-                    NO_SHIFT,
-                    DVec3::ZERO,
-                );
+            for (k, delta) in self.cells.delta.into_iter().enumerate() {
+                if reachable(k % 3, k / 3 % 3, k / 9) {
+                    let members = self.cells.members(base.wrapping_add_signed(delta));
+                    scan(members, NO_SHIFT, DVec3::ZERO);
+                }
             }
         } else {
             // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 outside an open
@@ -178,7 +194,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 for y in 0..3 {
                     for x in 0..3 {
                         let c = [coord[0][x], coord[1][y], coord[2][z]];
-                        if c.iter().any(|&c| c < 0) {
+                        if c.iter().any(|&c| c < 0) || !reachable(x, y, z) {
                             continue;
                         }
                         let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
@@ -189,5 +205,6 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
         }
         self.found = found;
+        len
     }
 }

@@ -95,7 +95,7 @@ pub struct Summary {
     slid: u64,
     /// The deepest overlaps in the state at the end.
     state_overlap: StateOverlap,
-    /// Cell crossings processed.
+    /// Shell events processed (a sphere rebuilt its neighbour list).
     crossings: u64,
     /// Calendar entries found stale.
     stale: u64,
