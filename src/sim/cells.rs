@@ -1,7 +1,7 @@
-//! The engine's cell list: a uniform grid of cells at least one largest diameter wide, each a
-//! short contiguous array of sphere indices (swap-remove), so a sphere moves between cells in
-//! O(1) at its crossing event and a prediction reads its neighbours' indices without chasing
-//! pointers. Periodic boxes wrap; an open domain clamps, so its outermost cells reach to
+//! The engine's cell list of shell centres: a uniform grid of cells at least one largest
+//! diameter and the shell wide, each a short contiguous array of sphere indices (swap-remove),
+//! so a sphere moves between cells in O(1) at its shell event and a list rebuild reads its
+//! neighbours' indices without chasing pointers (the generator uses it for spacing too). Periodic boxes wrap; an open domain clamps, so its outermost cells reach to
 //! infinity (a sphere that leaves the domain stays in an edge cell and is still found by its
 //! neighbours).
 
@@ -28,8 +28,6 @@ pub(crate) struct Cells {
     slot_of: Vec<u32>,
     /// Each sphere's cell coordinates.
     pub at: Vec<[i32; 3]>,
-    /// Index difference to each of the 27 neighbours `x + 3y + 9z` of an interior cell.
-    pub delta: [isize; 27],
 }
 
 impl Cells {
@@ -56,11 +54,6 @@ impl Cells {
         );
         let cells = (n[0] as usize) * (n[1] as usize) * (n[2] as usize);
         let cap = 8;
-        let (sx, sy) = (n[0] as isize, n[0] as isize * n[1] as isize);
-        let delta = std::array::from_fn(|k| {
-            let k = k as isize;
-            (k % 3 - 1) + (k / 3 % 3 - 1) * sx + (k / 9 - 1) * sy
-        });
         Self {
             n,
             lo,
@@ -71,7 +64,6 @@ impl Cells {
             count: vec![0; cells],
             slot_of: vec![NONE; spheres],
             at: vec![[0; 3]; spheres],
-            delta,
         }
     }
 

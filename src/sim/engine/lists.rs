@@ -9,8 +9,9 @@
 
 use glam::DVec3;
 
-/// The shift code of no periodic shift (`x + 3y + 9z` with each of `x, y, z` in `0…2` for a
+/// The shift code of no periodic shift (every entry's in an open domain) (`x + 3y + 9z` with each of `x, y, z` in `0…2` for a
 /// shift of `−1, 0, +1` box lengths).
+#[cfg(test)]
 pub(crate) const NO_SHIFT: u8 = 13;
 
 /// Bits of an entry that hold the shift code.

@@ -2,7 +2,7 @@
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
 //! four at a time; the two earliest are kept (`predict_pairs`).
 
-use super::lists::{NO_SHIFT, entry, mirror, split};
+use super::lists::{entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Group, Kept};
 
@@ -161,46 +161,44 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             gap[k] = [below * below, 0.0, above * above];
         }
         let far = self.lists.far * self.lists.far;
-        let reachable = |x: usize, y: usize, z: usize| gap[0][x] + gap[1][y] + gap[2][z] <= far;
-        if (0..3).all(|k| ci[k] >= 1 && ci[k] <= n[k] - 2) {
-            let base = self.cells.index(ci);
-            for (k, delta) in self.cells.delta.into_iter().enumerate() {
-                if reachable(k % 3, k / 3 % 3, k / 9) {
-                    let members = self.cells.members(base.wrapping_add_signed(delta));
-                    scan(members, NO_SHIFT, DVec3::ZERO);
-                }
-            }
-        } else {
-            // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 outside an open
-            // domain) and the shift (0, 1, 2 for −1, 0, +1 box lengths).
-            let mut coord = [[0i32; 3]; 3];
-            let mut shift = [[1u8; 3]; 3];
-            for k in 0..3 {
-                for (o, d) in (-1..=1).enumerate() {
-                    let mut c = ci[k] + d;
-                    if c < 0 || c >= n[k] {
-                        if PERIODIC {
-                            let wrap = if c < 0 { 1 } else { -1 };
-                            c += wrap * n[k];
-                            shift[k][o] = (1 - wrap) as u8;
-                        } else {
-                            c = -1;
-                        }
+        // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 outside an open
+        // domain) and the shift (0, 1, 2 for −1, 0, +1 box lengths).
+        let mut coord = [[0i32; 3]; 3];
+        let mut shift = [[1u8; 3]; 3];
+        for k in 0..3 {
+            for (o, d) in (-1..=1).enumerate() {
+                let mut c = ci[k] + d;
+                if c < 0 || c >= n[k] {
+                    if PERIODIC {
+                        let wrap = if c < 0 { 1 } else { -1 };
+                        c += wrap * n[k];
+                        shift[k][o] = (1 - wrap) as u8;
+                    } else {
+                        c = -1;
                     }
-                    coord[k][o] = c;
                 }
+                coord[k][o] = c;
             }
-            for z in 0..3 {
-                for y in 0..3 {
-                    for x in 0..3 {
-                        let c = [coord[0][x], coord[1][y], coord[2][z]];
-                        if c.iter().any(|&c| c < 0) || !reachable(x, y, z) {
-                            continue;
-                        }
-                        let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
-                        let members = self.cells.members(self.cells.index(c));
-                        scan(members, code, self.shift[usize::from(code)]);
+        }
+        let (nx, ny) = (n[0] as usize, n[1] as usize);
+        for z in 0..3 {
+            let gz = gap[2][z];
+            if coord[2][z] < 0 || gz > far {
+                continue;
+            }
+            for y in 0..3 {
+                let gyz = gz + gap[1][y];
+                if coord[1][y] < 0 || gyz > far {
+                    continue;
+                }
+                let row = (coord[2][z] as usize * ny + coord[1][y] as usize) * nx;
+                for x in 0..3 {
+                    if coord[0][x] < 0 || gyz + gap[0][x] > far {
+                        continue;
                     }
+                    let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
+                    let members = self.cells.members(row + coord[0][x] as usize);
+                    scan(members, code, self.shift[usize::from(code)]);
                 }
             }
         }
