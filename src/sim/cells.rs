@@ -7,6 +7,8 @@
 
 use glam::DVec3;
 
+use super::runs::Runs;
+
 /// "No sphere".
 pub(crate) const NONE: u32 = u32::MAX;
 
@@ -21,10 +23,8 @@ pub(crate) struct Cells {
     pub w: DVec3,
     /// Box lengths (periodic), `n · w`.
     pub len: DVec3,
-    /// Slots per cell (grows when a cell fills).
-    cap: usize,
-    slots: Vec<u32>,
-    count: Vec<u32>,
+    /// Each cell's spheres.
+    runs: Runs,
     slot_of: Vec<u32>,
     /// Each sphere's cell coordinates.
     pub at: Vec<[i32; 3]>,
@@ -53,15 +53,12 @@ impl Cells {
             extent.z / f64::from(n[2]),
         );
         let cells = (n[0] as usize) * (n[1] as usize) * (n[2] as usize);
-        let cap = 8;
         Self {
             n,
             lo,
             w,
             len: extent,
-            cap,
-            slots: vec![NONE; cells * cap],
-            count: vec![0; cells],
+            runs: Runs::new(cells, 8),
             slot_of: vec![NONE; spheres],
             at: vec![[0; 3]; spheres],
         }
@@ -82,21 +79,14 @@ impl Cells {
     /// The spheres in cell `cell` (an [`index`](Self::index)).
     #[inline(always)]
     pub fn members(&self, cell: usize) -> &[u32] {
-        let start = cell * self.cap;
-        &self.slots[start..start + self.count[cell] as usize]
+        self.runs.of(cell)
     }
 
     /// Adds sphere `i` to cell `c`.
     #[inline]
     pub fn insert(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
-        if self.count[cell] as usize == self.cap {
-            self.grow();
-        }
-        let k = self.count[cell] as usize;
-        self.slots[cell * self.cap + k] = i;
-        self.count[cell] += 1;
-        self.slot_of[i as usize] = k as u32;
+        self.slot_of[i as usize] = self.runs.push(cell, i) as u32;
         self.at[i as usize] = c;
     }
 
@@ -104,47 +94,25 @@ impl Cells {
     #[inline]
     pub fn remove(&mut self, i: u32) {
         let cell = self.index(self.at[i as usize]);
-        let base = cell * self.cap;
-        let k = self.slot_of[i as usize] as usize;
-        let last = self.count[cell] as usize - 1;
-        let moved = self.slots[base + last];
-        self.slots[base + k] = moved;
-        self.slot_of[moved as usize] = k as u32;
-        self.slots[base + last] = NONE;
-        self.count[cell] -= 1;
+        let k = self.slot_of[i as usize];
+        if let Some(moved) = self.runs.swap_remove(cell, k as usize) {
+            self.slot_of[moved as usize] = k;
+        }
     }
 
     /// Cells in the grid.
     pub fn cell_count(&self) -> usize {
-        self.count.len()
+        self.runs.owners()
     }
 
     /// Bytes the grid holds.
     pub fn bytes(&self) -> usize {
-        self.slots.capacity() * 4
-            + self.count.capacity() * 4
-            + self.slot_of.capacity() * 4
-            + self.at.capacity() * 12
+        self.runs.bytes() + self.slot_of.capacity() * 4 + self.at.capacity() * 12
     }
 
     /// Empties every cell.
     pub fn clear(&mut self) {
-        self.slots.fill(NONE);
-        self.count.fill(0);
-    }
-
-    /// Doubles the slots per cell.
-    #[cold]
-    fn grow(&mut self) {
-        let cap = self.cap * 2;
-        let mut slots = vec![NONE; self.count.len() * cap];
-        for (cell, &c) in self.count.iter().enumerate() {
-            let c = c as usize;
-            slots[cell * cap..cell * cap + c]
-                .copy_from_slice(&self.slots[cell * self.cap..cell * self.cap + c]);
-        }
-        self.slots = slots;
-        self.cap = cap;
+        self.runs.clear_all();
     }
 }
 
@@ -156,7 +124,7 @@ mod tests {
     fn width_never_below_the_minimum_and_budget_holds() {
         let c = Cells::new(DVec3::ZERO, DVec3::new(10.0, 3.5, 100.0), 1.0, 1000, 0);
         assert!(c.w.min_element() >= 1.0);
-        assert!(c.count.len() <= 1000, "{:?}", c.n);
+        assert!(c.cell_count() <= 1000, "{:?}", c.n);
         let c = Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1 << 20, 0);
         assert_eq!(c.n, [10, 10, 10]);
     }

@@ -34,6 +34,7 @@ mod queue;
 mod records;
 mod response;
 mod run;
+mod runs;
 mod stats;
 #[cfg(test)]
 mod tests;

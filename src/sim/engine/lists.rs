@@ -9,6 +9,8 @@
 
 use glam::DVec3;
 
+use crate::sim::runs::Runs;
+
 /// The shift code of no periodic shift (every entry's in an open domain) (`x + 3y + 9z` with each of `x, y, z` in `0…2` for a
 /// shift of `−1, 0, +1` box lengths).
 #[cfg(test)]
@@ -90,10 +92,8 @@ pub(crate) struct NeighbourLists {
     pub far: f64,
     /// Each sphere's shell centre (periodic centres inside the box) and radius.
     pub centre: Vec<Shell>,
-    /// Slots per sphere (grows when a list fills).
-    cap: usize,
-    count: Vec<u32>,
-    entries: Vec<u32>,
+    /// Each sphere's entries.
+    entries: Runs,
     /// Scratch for a rebuild: the epoch at which each sphere was last seen in the list being
     /// replaced.
     pub seen: Vec<u32>,
@@ -104,7 +104,6 @@ impl NeighbourLists {
     /// Empty lists for `n` spheres with shells of half-width `delta`, centred at `centre`.
     pub fn new(delta: f64, centre: Vec<Shell>) -> Self {
         let n = centre.len();
-        let cap = 16;
         let reach = 2.0 * delta * (1.0 + REACH_MARGIN);
         let widest = centre.iter().map(|s| 2.0 * s.radius).fold(0.0, f64::max);
         Self {
@@ -112,9 +111,7 @@ impl NeighbourLists {
             reach,
             far: (widest + reach) * (1.0 + REACH_MARGIN),
             centre,
-            cap,
-            count: vec![0; n],
-            entries: vec![0; n * cap],
+            entries: Runs::new(n, 16),
             seen: vec![0; n],
             epoch: 0,
         }
@@ -134,77 +131,44 @@ impl NeighbourLists {
     /// Sphere `i`'s entries.
     #[inline(always)]
     pub fn of(&self, i: u32) -> &[u32] {
-        let start = i as usize * self.cap;
-        &self.entries[start..start + self.count[i as usize] as usize]
+        self.entries.of(i as usize)
     }
 
     /// Adds an entry to sphere `i`'s list.
     #[inline]
     pub fn push(&mut self, i: u32, e: u32) {
-        let k = self.count[i as usize] as usize;
-        if k == self.cap {
-            self.grow();
-        }
-        self.entries[i as usize * self.cap + k] = e;
-        self.count[i as usize] += 1;
+        self.entries.push(i as usize, e);
     }
 
-    /// Removes entry `e` from sphere `i`'s list (the last entry takes its slot); a list holds
-    /// an entry at most once.
+    /// Removes entry `e` from sphere `i`'s list (a list holds an entry at most once).
     #[inline]
     pub fn remove(&mut self, i: u32, e: u32) {
-        let start = i as usize * self.cap;
-        let len = self.count[i as usize] as usize;
-        let list = &mut self.entries[start..start + len];
-        if let Some(k) = list.iter().position(|&x| x == e) {
-            list[k] = list[len - 1];
-            self.count[i as usize] -= 1;
-        }
+        self.entries.remove_value(i as usize, e);
     }
 
     /// Empties sphere `i`'s list.
     #[inline]
     pub fn clear(&mut self, i: u32) {
-        self.count[i as usize] = 0;
+        self.entries.clear(i as usize);
     }
 
     /// Renumbers: sphere `new` takes old sphere `order[new]`'s centre and list, whose entries
     /// name spheres by `new_of_old`.
     pub fn permute(&mut self, order: &[u32], new_of_old: &[u32]) {
         self.centre = order.iter().map(|&o| self.centre[o as usize]).collect();
-        let mut entries = vec![0u32; self.entries.len()];
-        let mut count = vec![0u32; self.count.len()];
-        for (new, &old) in order.iter().enumerate() {
-            let list = self.of(old);
-            count[new] = list.len() as u32;
-            for (slot, &e) in entries[new * self.cap..].iter_mut().zip(list) {
-                let (j, code) = split(e);
-                *slot = entry(new_of_old[j as usize], code);
-            }
-        }
-        (self.entries, self.count) = (entries, count);
+        self.entries.permute(order, |e| {
+            let (j, code) = split(e);
+            entry(new_of_old[j as usize], code)
+        });
         self.seen.fill(0);
         self.epoch = 0;
     }
 
     /// Bytes the lists and centres hold.
     pub fn bytes(&self) -> usize {
-        (self.entries.capacity() + self.count.capacity() + self.seen.capacity()) * 4
+        self.entries.bytes()
+            + self.seen.capacity() * 4
             + self.centre.capacity() * std::mem::size_of::<Shell>()
-    }
-
-    /// Makes room for four more entries per sphere (the lists keep their entries).
-    #[cold]
-    fn grow(&mut self) {
-        let cap = self.cap + 4;
-        let mut entries = vec![0u32; self.count.len() * cap];
-        for (i, &c) in self.count.iter().enumerate() {
-            let c = c as usize;
-            entries[i * cap..i * cap + c]
-                .copy_from_slice(&self.entries[i * self.cap..i * self.cap + c]);
-        }
-        self.entries = entries;
-        self.cap = cap;
     }
 }
 

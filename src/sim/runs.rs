@@ -1,0 +1,145 @@
+//! Short runs of `u32` slots, one run per owner (a cell's spheres, a sphere's list entries),
+//! all runs the same capacity in one array: an owner's run is a contiguous slice, a push and a
+//! swap-remove are O(1), and a full run makes every run four slots longer (rare: the capacity
+//! follows the longest run).
+
+/// The runs and their lengths.
+#[derive(Debug, Clone)]
+pub(crate) struct Runs {
+    cap: usize,
+    count: Vec<u32>,
+    slots: Vec<u32>,
+}
+
+impl Runs {
+    /// `owners` empty runs of `cap` slots.
+    pub fn new(owners: usize, cap: usize) -> Self {
+        Self {
+            cap,
+            count: vec![0; owners],
+            slots: vec![0; owners * cap],
+        }
+    }
+
+    /// Owner `o`'s run.
+    #[inline(always)]
+    pub fn of(&self, o: usize) -> &[u32] {
+        let start = o * self.cap;
+        &self.slots[start..start + self.count[o] as usize]
+    }
+
+    /// Appends `v` to owner `o`'s run; returns its slot in the run.
+    #[inline]
+    pub fn push(&mut self, o: usize, v: u32) -> usize {
+        let k = self.count[o] as usize;
+        if k == self.cap {
+            self.grow();
+        }
+        self.slots[o * self.cap + k] = v;
+        self.count[o] += 1;
+        k
+    }
+
+    /// Removes slot `k` of owner `o`'s run; the run's last value moves into it and is
+    /// returned (`None` when `k` was the last).
+    #[inline]
+    pub fn swap_remove(&mut self, o: usize, k: usize) -> Option<u32> {
+        let start = o * self.cap;
+        let last = self.count[o] as usize - 1;
+        self.count[o] -= 1;
+        (k != last).then(|| {
+            let moved = self.slots[start + last];
+            self.slots[start + k] = moved;
+            moved
+        })
+    }
+
+    /// Removes value `v` from owner `o`'s run, if it is there (its first slot).
+    #[inline]
+    pub fn remove_value(&mut self, o: usize, v: u32) {
+        if let Some(k) = self.of(o).iter().position(|&x| x == v) {
+            self.swap_remove(o, k);
+        }
+    }
+
+    /// Empties owner `o`'s run.
+    #[inline]
+    pub fn clear(&mut self, o: usize) {
+        self.count[o] = 0;
+    }
+
+    /// Empties every run.
+    pub fn clear_all(&mut self) {
+        self.count.fill(0);
+    }
+
+    /// Owners.
+    pub fn owners(&self) -> usize {
+        self.count.len()
+    }
+
+    /// New owner `new` takes old owner `order[new]`'s run, each value mapped by `map`.
+    pub fn permute(&mut self, order: &[u32], map: impl Fn(u32) -> u32) {
+        let mut slots = vec![0u32; self.slots.len()];
+        let mut count = vec![0u32; self.count.len()];
+        for (new, &old) in order.iter().enumerate() {
+            let run = self.of(old as usize);
+            count[new] = run.len() as u32;
+            for (slot, &v) in slots[new * self.cap..].iter_mut().zip(run) {
+                *slot = map(v);
+            }
+        }
+        (self.slots, self.count) = (slots, count);
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        (self.slots.capacity() + self.count.capacity()) * 4
+    }
+
+    /// Four more slots for every run (the runs keep their values).
+    #[cold]
+    fn grow(&mut self) {
+        let cap = self.cap + 4;
+        let mut slots = vec![0u32; self.count.len() * cap];
+        for (o, &c) in self.count.iter().enumerate() {
+            let c = c as usize;
+            slots[o * cap..o * cap + c]
+                .copy_from_slice(&self.slots[o * self.cap..o * self.cap + c]);
+        }
+        self.slots = slots;
+        self.cap = cap;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_push_remove_grow_and_permute() {
+        let mut r = Runs::new(3, 2);
+        for v in 0..11 {
+            assert_eq!(r.push(1, v), v as usize);
+        }
+        r.push(0, 100);
+        assert_eq!(r.of(1), (0..11).collect::<Vec<_>>());
+        // The last value fills the hole; removing the last moves nothing.
+        assert_eq!(r.swap_remove(1, 3), Some(10));
+        assert_eq!(r.swap_remove(1, 9), None);
+        assert_eq!(r.of(1), [0, 1, 2, 10, 4, 5, 6, 7, 8]);
+        r.remove_value(1, 5);
+        r.remove_value(1, 42);
+        assert_eq!(r.of(1), [0, 1, 2, 10, 4, 8, 6, 7]);
+        assert_eq!(r.of(0), [100]);
+        r.permute(&[2, 0, 1], |v| v + 1);
+        assert!(r.of(0).is_empty());
+        assert_eq!(r.of(1), [101]);
+        assert_eq!(r.of(2), [1, 2, 3, 11, 5, 9, 7, 8]);
+        r.clear(2);
+        assert!(r.of(2).is_empty());
+        r.push(0, 7);
+        r.clear_all();
+        assert!((0..r.owners()).all(|o| r.of(o).is_empty()));
+    }
+}
