@@ -15,9 +15,9 @@
 //! # Ok::<(), spheresweep::sim::SimError>(())
 //! ```
 //!
-//! The layer sits above the whole-scene query and uses the kernels directly: pair prediction
-//! screens neighbours with the f32 8-wide `Stable` kernel and settles the earliest in f64;
-//! static shapes use the f64 kernels. Policies and bounds: docs/derivations/simulation.md.
+//! The layer sits above the whole-scene query and uses the kernels directly: each sphere has a
+//! neighbour list with a shell, and pair prediction answers the approaching entries with the
+//! `Stable` kernel on `f64x4` lanes; static shapes use the f64 kernels. Policies and bounds: docs/derivations/simulation.md.
 
 mod assemble;
 mod cells;
