@@ -6,8 +6,8 @@
 //! (older version); then a shell event rebuilds the sphere's list from the cells around its
 //! new centre and predicts it against the entries new to it only; a pair event whose partner
 //! changed since the prediction is predicted again; a real collision advances the bodies,
-//! applies the [`Responder`] and predicts every changed sphere against its list, eight at a
-//! time (`predict`). The cell grid is touched only at shell events.
+//! applies the [`Responder`] and predicts every changed sphere against its list, four pairs at
+//! a time in f64 lanes (`predict`). The cell grid is touched only at shell events.
 //!
 //! The engine is generic over the response `R` and three switches fixed when it is assembled:
 //! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all) and `GEOMETRY` (contact point
@@ -226,8 +226,17 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         for i in 0..n as u32 {
             e.predict(i);
         }
-        // Bucket width: about two pending events per bucket.
-        let finite: Vec<f64> = e
+        e.size_calendar();
+        // Start in cell order (this also fills the calendar).
+        e.reorder();
+        e
+    }
+
+    /// Sizes the calendar from the first predictions: buckets about two pending events wide,
+    /// the responder's time scale and the stall watchdog's least progress follow from it.
+    fn size_calendar(&mut self) {
+        let n = self.m.bodies.len();
+        let finite: Vec<f64> = self
             .best
             .iter()
             .map(Best::time)
@@ -244,14 +253,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         } else {
             1.0
         };
-        e.queue = Calendar::new(width, n, 0.0);
-        e.width = width;
-        e.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
+        self.queue = Calendar::new(width, n, 0.0);
+        self.width = width;
+        self.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
         // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
-        e.min_progress = width * n as f64 / (1u64 << 30) as f64;
-        // Start in cell order (this also fills the calendar).
-        e.reorder();
-        e
+        self.min_progress = width * n as f64 / (1u64 << 30) as f64;
     }
 
     /// Advances every event up to and including time `t_end`; stops early (returning `false`)
@@ -383,7 +389,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             self.cells.remove(i);
             self.cells.insert(i, c);
         }
-        self.rebuild_list(i);
+        self.rebuild_list(i, self.once_per_list);
         if self.prune(i) || !self.once_per_list {
             self.predict(i);
         } else {

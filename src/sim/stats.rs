@@ -31,7 +31,8 @@ use super::persist::persist_fields;
 /// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct KernelCounts {
-    /// Sphere–sphere lanes.
+    /// Sphere–sphere pairs answered: the approaching pairs of a list solved in f64 lanes
+    /// (receding pairs are rejected before the kernel and not counted).
     pub sphere: u64,
     /// Sphere–plane evaluations.
     pub plane: u64,

@@ -89,8 +89,9 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
 
     /// Sphere `i`'s new list after its shell event (its centre already moved): off its old
     /// neighbours' lists, then every sphere whose centre is within reach, both ways; the
-    /// entries that were not in the old list go into `fresh`.
-    pub(super) fn rebuild_list(&mut self, i: u32) {
+    /// entries that were not in the old list go into `fresh` when `track_fresh` (a box of
+    /// fewer than three cells a side predicts the whole list and skips it).
+    pub(super) fn rebuild_list(&mut self, i: u32, track_fresh: bool) {
         let epoch = self.lists.next_epoch();
         for k in 0..self.lists.of(i).len() {
             let (j, code) = split(self.lists.of(i)[k]);
@@ -105,7 +106,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             let (j, code) = split(e);
             self.lists.push(i, e);
             self.lists.push(j, entry(i, mirror(code)));
-            if self.lists.seen[j as usize] != epoch {
+            if track_fresh && self.lists.seen[j as usize] != epoch {
                 self.fresh.push(e);
             }
         }
@@ -150,36 +151,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 len += usize::from((dr.length_squared() <= d * d) & (j != i));
             }
         };
-        // Per axis and offset −1, 0, +1: the squared distance from the centre to the
-        // neighbour cell's slab (a lower bound for any centre in it, or its image). A cell
-        // farther than the widest reach holds nobody within reach (`far` has a margin above
-        // the faces' rounding).
-        let mut gap = [[0.0f64; 3]; 3];
-        for k in 0..3 {
-            let below = si.c[k] - (self.cells.lo[k] + f64::from(ci[k]) * self.cells.w[k]);
-            let above = self.cells.w[k] - below;
-            gap[k] = [below * below, 0.0, above * above];
-        }
+        let Stencil { gap, coord, shift } = Stencil::around::<PERIODIC>(&self.cells, ci, si.c);
         let far = self.lists.far * self.lists.far;
-        // Per axis and offset −1, 0, +1: the wrapped cell coordinate (−1 outside an open
-        // domain) and the shift (0, 1, 2 for −1, 0, +1 box lengths).
-        let mut coord = [[0i32; 3]; 3];
-        let mut shift = [[1u8; 3]; 3];
-        for k in 0..3 {
-            for (o, d) in (-1..=1).enumerate() {
-                let mut c = ci[k] + d;
-                if c < 0 || c >= n[k] {
-                    if PERIODIC {
-                        let wrap = if c < 0 { 1 } else { -1 };
-                        c += wrap * n[k];
-                        shift[k][o] = (1 - wrap) as u8;
-                    } else {
-                        c = -1;
-                    }
-                }
-                coord[k][o] = c;
-            }
-        }
         let (nx, ny) = (n[0] as usize, n[1] as usize);
         for z in 0..3 {
             let gz = gap[2][z];
@@ -204,5 +177,44 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         }
         self.found = found;
         len
+    }
+}
+
+/// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
+struct Stencil {
+    /// The squared distance from the centre to the neighbour cell's slab: a lower bound for
+    /// any centre in it, or its image. A cell farther than the widest reach holds nobody within
+    /// reach (`far` has a margin above the faces' rounding).
+    gap: [[f64; 3]; 3],
+    /// The wrapped cell coordinate, −1 outside an open domain.
+    coord: [[i32; 3]; 3],
+    /// The shift digit: 0, 1, 2 for −1, 0, +1 box lengths.
+    shift: [[u8; 3]; 3],
+}
+
+impl Stencil {
+    fn around<const PERIODIC: bool>(cells: &Cells, ci: [i32; 3], c: DVec3) -> Self {
+        let mut gap = [[0.0f64; 3]; 3];
+        let mut coord = [[0i32; 3]; 3];
+        let mut shift = [[1u8; 3]; 3];
+        for k in 0..3 {
+            let below = c[k] - (cells.lo[k] + f64::from(ci[k]) * cells.w[k]);
+            let above = cells.w[k] - below;
+            gap[k] = [below * below, 0.0, above * above];
+            for (o, d) in (-1..=1).enumerate() {
+                let mut at = ci[k] + d;
+                if at < 0 || at >= cells.n[k] {
+                    if PERIODIC {
+                        let wrap = if at < 0 { 1 } else { -1 };
+                        at += wrap * cells.n[k];
+                        shift[k][o] = (1 - wrap) as u8;
+                    } else {
+                        at = -1;
+                    }
+                }
+                coord[k][o] = at;
+            }
+        }
+        Stencil { gap, coord, shift }
     }
 }
