@@ -2,8 +2,8 @@
 //! in a calendar queue, neighbour lists with a shell (`lists.rs`), lazy positions with a
 //! per-sphere time, and re-prediction of only the spheres an event touched.
 //!
-//! Stages of one event, in order (`step`): pop the earliest entry and drop it if stale
-//! (older version); then a shell event rebuilds the sphere's list from the cells around its
+//! Stages of one event, in order (`step`): pop the earliest sphere's event (a re-predicted
+//! sphere's older event was dropped from the calendar); then a shell event rebuilds the sphere's list from the cells around its
 //! new centre and predicts it against the entries new to it only; a pair event whose partner
 //! changed since the prediction is predicted again; a real collision advances the bodies,
 //! applies the [`Responder`] and predicts every changed sphere against its list, four pairs at
@@ -16,7 +16,7 @@
 use glam::DVec3;
 
 use super::cells::{Cells, NONE};
-use super::queue::{Calendar, Entry};
+use super::queue::Calendar;
 use super::response::{Motion, Outcome, Responder, Trajectory, Wall};
 use super::{EventRecord, SimError, Stats};
 use crate::contact::Body;
@@ -77,7 +77,6 @@ pub(crate) struct Engine<
 > {
     pub m: Motion,
     pub best: Vec<Best>,
-    version: Vec<u32>,
     pub cells: Cells,
     /// Each sphere's neighbour list and shell centre.
     lists: NeighbourLists,
@@ -124,10 +123,10 @@ pub(crate) struct Engine<
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
 /// from the sizes of its arrays (the ones [`Engine::bytes`] counts) as [`Engine::new`] sizes
-/// them: per sphere its body, mass, material, counter, prediction, version, order, cell entry,
-/// shell centre, a list of [`LIST_ESTIMATE`] entries and a pending calendar entry; one
-/// calendar bucket per sphere (rounded up to a power of two) holding up to four entries, and
-/// eight slots per cell. Known before anything is allocated.
+/// them: per sphere its body, mass, material, counter, prediction, order, cell entry, shell
+/// record and a list of [`LIST_ESTIMATE`] entries; the calendar (a slot per sphere, a bucket
+/// head per sphere rounded up to a power of two) and eight slots per cell. Known before
+/// anything is allocated.
 pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
     use std::mem::size_of;
     let per_sphere = size_of::<Trajectory>()
@@ -136,23 +135,18 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         + size_of::<u32>()
         + size_of::<Best>()
         + size_of::<u32>()
-        + size_of::<u32>()
         // The grid's `slot_of` and `at` (cells.rs).
         + size_of::<u32>()
         + size_of::<[i32; 3]>()
-        // The shell centre, the list's count and rebuild mark, its entries.
-        + size_of::<DVec3>()
+        // The shell record, the list's count and rebuild mark, its entries.
+        + size_of::<lists::Shell>()
         + 2 * size_of::<u32>()
-        + LIST_ESTIMATE * size_of::<u32>()
-        // Its pending entry where the buckets do not hold it (the heap, the far list).
-        + size_of::<Entry>();
+        + LIST_ESTIMATE * size_of::<u32>();
     // The grid's eight `slots` and one `count` per cell, as `Cells::new` makes them.
     const SLOTS: usize = 8;
     let per_cell = SLOTS * size_of::<u32>() + size_of::<u32>();
-    let buckets = n.max(2).checked_next_power_of_two().unwrap_or(usize::MAX);
     n.saturating_mul(per_sphere)
-        // A bucket in use holds at least the four entries a growing `Vec` starts with.
-        .saturating_add(buckets.saturating_mul(size_of::<Vec<Entry>>() + 4 * size_of::<Entry>()))
+        .saturating_add(Calendar::estimated_bytes(n, n))
         .saturating_add(max_cells.saturating_mul(per_cell))
 }
 
@@ -187,9 +181,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             shift: lists::shifts(cells.len, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             best: vec![Best::default(); n],
-            version: vec![0; n],
             cells,
-            queue: Calendar::new(1.0, 2, 0.0),
+            queue: Calendar::new(1.0, 2, n, 0.0),
             now: 0.0,
             walls,
             responder,
@@ -253,7 +246,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         } else {
             1.0
         };
-        self.queue = Calendar::new(width, n, 0.0);
+        self.queue = Calendar::new(width, n, n, 0.0);
         self.width = width;
         self.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
         // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
@@ -268,15 +261,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         keep_going: &mut dyn FnMut(f64, &Stats) -> bool,
     ) -> Result<bool, SimError> {
         let mut tick = 0u32;
-        while let Some(e) = self.queue.pop() {
-            if e.t > t_end {
-                self.queue.push(e);
+        while let Some((t, i)) = self.queue.pop() {
+            if t > t_end {
+                self.queue.schedule(i, t);
                 break;
             }
-            if e.version != self.version[e.sphere as usize] {
-                continue;
-            }
-            self.now = self.now.max(e.t);
+            self.now = self.now.max(t);
             if self.now - self.window_start > self.min_progress {
                 self.same_time = 0;
                 self.window_start = self.now;
@@ -291,9 +281,9 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             #[cfg(test)]
             {
-                self.scheduled[e.sphere as usize] = f64::INFINITY;
+                self.scheduled[i as usize] = f64::INFINITY;
             }
-            self.step(e.sphere);
+            self.step(i);
             if let Some(s) = self.outcome.collapsing.take() {
                 return Err(SimError::Collapse {
                     time: self.now,
@@ -303,7 +293,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             #[cfg(test)]
             if self.checking {
-                self.check_invariant(e.sphere);
+                self.check_invariant(i);
             }
             self.since_reorder += 1;
             if self.since_reorder >= self.reorder_every {
@@ -489,23 +479,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.stats.slid += u64::from(out.slid);
     }
 
-    /// Pushes sphere `i`'s pending event (a new version; older entries go stale).
+    /// Puts sphere `i`'s pending event in the calendar (its earlier one is dropped).
     #[inline]
     fn schedule(&mut self, i: u32) {
-        let v = &mut self.version[i as usize];
-        *v = v.wrapping_add(1);
         let t = self.best[i as usize].time();
         #[cfg(test)]
         {
             self.scheduled[i as usize] = t;
         }
-        if t.is_finite() {
-            self.queue.push(Entry {
-                t,
-                sphere: i,
-                version: *v,
-            });
-        }
+        self.queue.schedule(i, t);
     }
 
     /// Predicts sphere `i`'s next pair contact, static contact and shell event from now.
@@ -575,7 +557,6 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             + b(&self.m.material)
             + b(&self.m.counter)
             + b(&self.best)
-            + b(&self.version)
             + b(&self.id_of)
             + self.cells.bytes()
             + self.queue.bytes()
@@ -627,8 +608,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// A fresh calendar holding each sphere's pending event (older entries all dropped).
     fn reschedule(&mut self) {
         let n = self.m.bodies.len();
-        self.version = vec![0; n];
-        self.queue = Calendar::new(self.width, n, self.now);
+        self.queue = Calendar::new(self.width, n, n, self.now);
         for i in 0..n as u32 {
             self.schedule(i);
         }

@@ -1,17 +1,19 @@
-//! The event calendar: a bucket (calendar) queue of `(time, sphere, version)` entries with
-//! lazy deletion. A sphere has one pending event; re-predicting it bumps its version, and the
-//! older entry is dropped when it surfaces (the engine compares versions), so no entry is ever
-//! searched for or removed.
+//! The event calendar: one pending event per sphere in a bucket (calendar) queue, after
+//! Paul's O(1) queue as Smallenburg's EDMD uses it.
 //!
-//! Buckets of width `w` cover one "year" of `nb · w` ahead of the current bucket; entries beyond
-//! it wait in an overflow list and are distributed when a new year starts. The current bucket
-//! is a binary min-heap, so events leave in exact `(time, sphere)` order whatever the width: the
-//! width only sets the cost (about a few entries per bucket is best).
+//! Buckets of width `w` cover one "year" of `nb · w` ahead of the current bucket. Each sphere
+//! has one slot (its time and two links, 16 bytes); a bucket is a doubly linked list of slots,
+//! so re-scheduling a sphere unlinks its old event in O(1) and no stale copy waits in a
+//! bucket. The current bucket is a binary min-heap of `(time, sphere, version)` entries, so
+//! events leave in exact `(time, sphere)` order whatever the width (the width only sets the
+//! cost: a few events a bucket is best); an event re-scheduled while in the heap, or in the
+//! overflow list of events beyond a year, is left there and dropped by its version when it
+//! surfaces.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-/// One scheduled event: when, whose, and which of its predictions.
+/// One event in the heap or the overflow list: when, whose, and which of its schedules.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Entry {
     pub t: f64,
@@ -39,37 +41,67 @@ impl Ord for Entry {
     }
 }
 
-/// A calendar queue over non-negative, finite times.
+/// No sphere: the end of a bucket's list.
+const NIL: u32 = u32::MAX;
+/// `prev` of a slot that is first in its bucket.
+const HEAD: u32 = u32::MAX - 1;
+/// `prev` of a slot in no bucket (its event, if any, is in the heap or the overflow list).
+const UNLINKED: u32 = u32::MAX - 2;
+
+/// A sphere's place in the calendar.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    /// Its pending event's time, `+∞` when it has none.
+    t: f64,
+    next: u32,
+    prev: u32,
+}
+
+/// A calendar queue over non-negative, finite times, for a fixed number of spheres.
 #[derive(Debug, Clone)]
 pub(crate) struct Calendar {
     inv_width: f64,
-    buckets: Vec<Vec<Entry>>,
+    /// First sphere of each bucket's list.
+    heads: Vec<u32>,
     mask: u64,
     /// Absolute index of the bucket the heap holds.
     current: u64,
+    slots: Vec<Slot>,
+    /// Each sphere's schedule count: a heap or overflow entry of an older one is stale.
+    version: Vec<u32>,
     heap: BinaryHeap<Entry>,
     far: Vec<Entry>,
+    /// Spheres with a pending event, and those of them linked into a bucket.
     len: usize,
+    linked: usize,
 }
 
 impl Calendar {
-    /// A calendar of `buckets` (rounded up to a power of two) buckets of `width`, starting at
-    /// time `t0`.
-    pub fn new(width: f64, buckets: usize, t0: f64) -> Self {
+    /// A calendar for `spheres` spheres (none scheduled) of `buckets` (rounded up to a power
+    /// of two) buckets of `width`, starting at time `t0`.
+    pub fn new(width: f64, buckets: usize, spheres: usize, t0: f64) -> Self {
         let nb = buckets.max(2).next_power_of_two();
         let inv_width = 1.0 / width;
+        let empty = Slot {
+            t: f64::INFINITY,
+            next: NIL,
+            prev: UNLINKED,
+        };
         Self {
             inv_width,
-            buckets: vec![Vec::new(); nb],
+            heads: vec![NIL; nb],
             mask: nb as u64 - 1,
             current: (t0 * inv_width) as u64,
+            slots: vec![empty; spheres],
+            version: vec![0; spheres],
             heap: BinaryHeap::new(),
             far: Vec::new(),
             len: 0,
+            linked: 0,
         }
     }
 
-    /// Number of entries, stale ones included.
+    /// Spheres with a pending event.
     #[cfg(test)]
     pub fn len(&self) -> usize {
         self.len
@@ -77,39 +109,68 @@ impl Calendar {
 
     #[inline]
     fn bucket_of(&self, t: f64) -> u64 {
-        // Saturating float-to-int cast: +∞ and huge times land in the overflow list.
+        // Saturating float-to-int cast: huge times land in the overflow list.
         (t * self.inv_width) as u64
     }
 
-    /// Bytes the calendar holds (buckets, heap, overflow).
+    /// Bytes the calendar holds (bucket heads, slots, versions, heap, overflow).
     pub fn bytes(&self) -> usize {
-        let e = std::mem::size_of::<Entry>();
-        self.buckets.capacity() * std::mem::size_of::<Vec<Entry>>()
-            + self.buckets.iter().map(Vec::capacity).sum::<usize>() * e
-            + (self.heap.capacity() + self.far.capacity()) * e
+        use std::mem::size_of;
+        self.heads.capacity() * size_of::<u32>()
+            + self.slots.capacity() * size_of::<Slot>()
+            + self.version.capacity() * size_of::<u32>()
+            + (self.heap.capacity() + self.far.capacity()) * size_of::<Entry>()
     }
 
-    /// Schedules an entry (its time must not precede the last popped one).
+    /// Bytes a calendar for `spheres` spheres and `buckets` buckets holds, before its heap
+    /// and overflow list grow (a few entries).
+    pub fn estimated_bytes(spheres: usize, buckets: usize) -> usize {
+        use std::mem::size_of;
+        let nb = buckets
+            .max(2)
+            .checked_next_power_of_two()
+            .unwrap_or(usize::MAX);
+        nb.saturating_mul(size_of::<u32>())
+            .saturating_add(spheres.saturating_mul(size_of::<Slot>() + size_of::<u32>()))
+    }
+
+    /// Sphere `i`'s pending event is now at `t` (`+∞`: none); its earlier one, if any, is
+    /// dropped. `t` must not precede the last popped time.
     #[inline]
-    pub fn push(&mut self, e: Entry) {
-        self.len += 1;
-        let k = self.bucket_of(e.t);
+    pub fn schedule(&mut self, i: u32, t: f64) {
+        self.unlink(i);
+        let v = &mut self.version[i as usize];
+        *v = v.wrapping_add(1);
+        let was = std::mem::replace(&mut self.slots[i as usize].t, t);
+        match (was.is_finite(), t.is_finite()) {
+            (false, true) => self.len += 1,
+            (true, false) => self.len -= 1,
+            _ => {}
+        }
+        if !t.is_finite() {
+            return;
+        }
+        let k = self.bucket_of(t);
         if k <= self.current {
-            self.heap.push(e);
+            self.heap.push(self.entry(i));
         } else if k - self.current <= self.mask {
-            self.buckets[(k & self.mask) as usize].push(e);
+            self.link(i, k);
         } else {
-            self.far.push(e);
+            self.far.push(self.entry(i));
         }
     }
 
-    /// The earliest entry, removed.
+    /// The earliest pending event (time, sphere), removed.
     #[inline]
-    pub fn pop(&mut self) -> Option<Entry> {
+    pub fn pop(&mut self) -> Option<(f64, u32)> {
         loop {
             if let Some(e) = self.heap.pop() {
+                if e.version != self.version[e.sphere as usize] {
+                    continue;
+                }
+                self.slots[e.sphere as usize].t = f64::INFINITY;
                 self.len -= 1;
-                return Some(e);
+                return Some((e.t, e.sphere));
             }
             if self.len == 0 {
                 return None;
@@ -118,10 +179,56 @@ impl Calendar {
         }
     }
 
-    /// Moves to the next bucket, with the heap empty. Overflow entries move into the ring at
-    /// each new year; when nothing but overflow is left, the calendar jumps to its earliest.
+    #[inline]
+    fn entry(&self, i: u32) -> Entry {
+        Entry {
+            t: self.slots[i as usize].t,
+            sphere: i,
+            version: self.version[i as usize],
+        }
+    }
+
+    /// Puts sphere `i` first in bucket `k`'s list.
+    #[inline]
+    fn link(&mut self, i: u32, k: u64) {
+        let b = (k & self.mask) as usize;
+        let next = self.heads[b];
+        if next != NIL {
+            self.slots[next as usize].prev = i;
+        }
+        let s = &mut self.slots[i as usize];
+        (s.next, s.prev) = (next, HEAD);
+        self.heads[b] = i;
+        self.linked += 1;
+    }
+
+    /// Takes sphere `i` out of its bucket's list, if it is in one.
+    #[inline]
+    fn unlink(&mut self, i: u32) {
+        let Slot { t, next, prev } = self.slots[i as usize];
+        if prev == UNLINKED {
+            return;
+        }
+        if prev == HEAD {
+            let b = (self.bucket_of(t) & self.mask) as usize;
+            self.heads[b] = next;
+        } else {
+            self.slots[prev as usize].next = next;
+        }
+        if next != NIL {
+            self.slots[next as usize].prev = prev;
+        }
+        self.slots[i as usize].prev = UNLINKED;
+        self.linked -= 1;
+    }
+
+    /// Moves to the next bucket, with the heap empty: its list goes into the heap. Overflow
+    /// events move into the ring at each new year; when no bucket holds an event, the
+    /// calendar jumps to the earliest overflow event.
     fn advance(&mut self) {
-        if self.far.len() == self.len {
+        if self.linked == 0 {
+            self.far
+                .retain(|e| e.version == self.version[e.sphere as usize]);
             let first = self.far.iter().map(|e| self.bucket_of(e.t)).min();
             self.current = first.unwrap_or(self.current).saturating_sub(1);
             self.refill_from_far();
@@ -130,25 +237,31 @@ impl Calendar {
         if self.current & self.mask == 0 && !self.far.is_empty() {
             self.refill_from_far();
         }
-        let b = &mut self.buckets[(self.current & self.mask) as usize];
-        if !b.is_empty() {
-            // The heap is empty: it takes the bucket's entries, the bucket the heap's buffer.
-            let mut taken = BinaryHeap::from(std::mem::take(b));
-            std::mem::swap(&mut taken, &mut self.heap);
-            *b = taken.into_vec();
+        let b = (self.current & self.mask) as usize;
+        let mut i = std::mem::replace(&mut self.heads[b], NIL);
+        while i != NIL {
+            let s = &mut self.slots[i as usize];
+            s.prev = UNLINKED;
+            let next = s.next;
+            self.linked -= 1;
+            self.heap.push(self.entry(i));
+            i = next;
         }
     }
 
-    /// Moves the overflow entries that now fall within a year of the current bucket into the
-    /// ring (every overflow entry lies after the current bucket: it was beyond a year when
-    /// pushed, and this runs at least once a year).
+    /// Moves the live overflow events that now fall within a year of the current bucket into
+    /// the ring (every overflow event lies after the current bucket: it was beyond a year when
+    /// scheduled, and this runs at least once a year); stale ones are dropped.
     #[cold]
     fn refill_from_far(&mut self) {
         let far = std::mem::take(&mut self.far);
         for e in far {
+            if e.version != self.version[e.sphere as usize] {
+                continue;
+            }
             let k = self.bucket_of(e.t);
             if k - self.current <= self.mask {
-                self.buckets[(k & self.mask) as usize].push(e);
+                self.link(e.sphere, k);
             } else {
                 self.far.push(e);
             }
@@ -161,48 +274,58 @@ mod tests {
     use super::*;
     use crate::rng::Rng;
 
-    /// Entries leave in exact (time, sphere) order whatever the width, including times far
-    /// beyond one year, equal times and +∞.
+    /// Events leave in exact (time, sphere) order whatever the width, including times far
+    /// beyond one year and equal times; a sphere scheduled again leaves once, at its last
+    /// time, wherever its earlier event was (a bucket, the heap, the overflow list).
     #[test]
     fn pops_in_order_for_any_width() {
+        const N: usize = 500;
         for &width in &[1e-3, 0.1, 1.0, 50.0] {
             let mut rng = Rng::new(7);
-            let mut q = Calendar::new(width, 16, 0.0);
+            let mut q = Calendar::new(width, 16, N, 0.0);
             let mut now = 0.0;
-            let mut expected: Vec<(f64, u32)> = Vec::new();
+            let mut pending = [f64::INFINITY; N];
             let mut popped = Vec::new();
-            for step in 1..4000u32 {
+            let mut expected = Vec::new();
+            for step in 1..20_000u32 {
+                let i = (rng.unit() * N as f64) as u32 % N as u32;
                 let t = match step % 97 {
                     0 => f64::INFINITY,
                     1 => now,
                     2 => now + 1e4 * rng.unit(),
                     _ => now + rng.unit(),
                 };
-                q.push(Entry {
-                    t,
-                    sphere: step,
-                    version: 0,
-                });
-                expected.push((t, step));
-                if step % 3 == 0 {
-                    let e = q.pop().unwrap();
-                    assert!(e.t >= now, "time went back: {} < {now}", e.t);
-                    now = e.t.min(1e12);
-                    popped.push((e.t, e.sphere));
+                // The event `i` had is dropped, the new one kept.
+                q.schedule(i, t);
+                pending[i as usize] = t;
+                if step % 3 == 0
+                    && let Some((t, i)) = q.pop()
+                {
+                    assert!(t >= now, "time went back: {t} < {now}");
+                    assert_eq!(pending[i as usize], t, "sphere {i} left at a dropped time");
+                    expected.push((t, i));
+                    pending[i as usize] = f64::INFINITY;
+                    now = t;
+                    popped.push((t, i));
                 }
+                assert_eq!(q.len(), pending.iter().filter(|t| t.is_finite()).count());
             }
+            let mut rest: Vec<(f64, u32)> = (0..N as u32)
+                .filter(|&i| pending[i as usize].is_finite())
+                .map(|i| (pending[i as usize], i))
+                .collect();
+            rest.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             while let Some(e) = q.pop() {
-                popped.push((e.t, e.sphere));
+                popped.push(e);
             }
             assert_eq!(q.len(), 0);
-            // Every entry comes out once, and in time order (pushes never precede the last pop).
+            expected.extend(rest);
+            // Every live event comes out once, in time order (the rest, scheduled before any
+            // of them left, also in sphere order at equal times).
             if let Some(k) = popped.windows(2).position(|w| w[0].0 > w[1].0) {
                 panic!("width {width}: {:?}", &popped[k.saturating_sub(3)..k + 3]);
             }
-            let mut all = popped.clone();
-            all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            expected.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            assert_eq!(all, expected, "width {width}");
+            assert_eq!(popped, expected, "width {width}");
         }
     }
 }
