@@ -160,12 +160,12 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
             // grid. A small box may have fewer than three a side: the lists then hold each
             // periodic image apart.
             let (delta, width) = shells(size);
-            let cells = Cells::new(DVec3::ZERO, size, width, (4 * n).max(27), n);
+            let cells = Cells::new(DVec3::ZERO, size, width, (4 * n).max(27));
             (cells, true, delta)
         }
         Boundary::OpenBox { lo, hi } => {
             let (delta, width) = shells(hi - lo);
-            (Cells::new(lo, hi - lo, width, 2 * n + 64, n), false, delta)
+            (Cells::new(lo, hi - lo, width, 2 * n + 64), false, delta)
         }
         Boundary::Open => {
             let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
@@ -183,7 +183,7 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
             let extent = (hi - lo).max(DVec3::splat(min_width));
             let (delta, width) = shells(extent);
             let extent = extent.max(DVec3::splat(width));
-            (Cells::new(lo, extent, width, 2 * n + 64, n), false, delta)
+            (Cells::new(lo, extent, width, 2 * n + 64), false, delta)
         }
     })
 }

@@ -23,17 +23,15 @@ pub(crate) struct Cells {
     pub w: DVec3,
     /// Box lengths (periodic), `n · w`.
     pub len: DVec3,
-    /// Each cell's spheres.
+    /// Each cell's spheres. A sphere's cell is not stored: it is `coords_of` its shell
+    /// centre, which changes only when the sphere moves cells.
     runs: Runs,
-    slot_of: Vec<u32>,
-    /// Each sphere's cell coordinates.
-    pub at: Vec<[i32; 3]>,
 }
 
 impl Cells {
     /// A grid over `[lo, lo + extent]` with cells no narrower than `min_width`, at most
-    /// `max_cells` in all, for `spheres` spheres.
-    pub fn new(lo: DVec3, extent: DVec3, min_width: f64, max_cells: usize, spheres: usize) -> Self {
+    /// `max_cells` in all.
+    pub fn new(lo: DVec3, extent: DVec3, min_width: f64, max_cells: usize) -> Self {
         let mut n = [0i32; 3];
         let budget = max_cells.max(1) as f64;
         // Largest per-axis counts with width ≥ min_width, shrunk evenly to fit the budget.
@@ -59,8 +57,6 @@ impl Cells {
             w,
             len: extent,
             runs: Runs::new(cells, 8),
-            slot_of: vec![NONE; spheres],
-            at: vec![[0; 3]; spheres],
         }
     }
 
@@ -86,18 +82,15 @@ impl Cells {
     #[inline]
     pub fn insert(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
-        self.slot_of[i as usize] = self.runs.push(cell, i) as u32;
-        self.at[i as usize] = c;
+        self.runs.push(cell, i);
     }
 
-    /// Removes sphere `i` from its cell (the cell's last sphere takes its slot).
+    /// Removes sphere `i` from cell `c`, where it is (the cell's last sphere takes its slot;
+    /// a cell holds a few spheres, so finding it is a short scan).
     #[inline]
-    pub fn remove(&mut self, i: u32) {
-        let cell = self.index(self.at[i as usize]);
-        let k = self.slot_of[i as usize];
-        if let Some(moved) = self.runs.swap_remove(cell, k as usize) {
-            self.slot_of[moved as usize] = k;
-        }
+    pub fn remove(&mut self, i: u32, c: [i32; 3]) {
+        let cell = self.index(c);
+        self.runs.remove_value(cell, i);
     }
 
     /// Cells in the grid.
@@ -107,7 +100,7 @@ impl Cells {
 
     /// Bytes the grid holds.
     pub fn bytes(&self) -> usize {
-        self.runs.bytes() + self.slot_of.capacity() * 4 + self.at.capacity() * 12
+        self.runs.bytes()
     }
 
     /// Empties every cell.
@@ -122,34 +115,34 @@ mod tests {
 
     #[test]
     fn width_never_below_the_minimum_and_budget_holds() {
-        let c = Cells::new(DVec3::ZERO, DVec3::new(10.0, 3.5, 100.0), 1.0, 1000, 0);
+        let c = Cells::new(DVec3::ZERO, DVec3::new(10.0, 3.5, 100.0), 1.0, 1000);
         assert!(c.w.min_element() >= 1.0);
         assert!(c.cell_count() <= 1000, "{:?}", c.n);
-        let c = Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1 << 20, 0);
+        let c = Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1 << 20);
         assert_eq!(c.n, [10, 10, 10]);
     }
 
     #[test]
     fn lists_insert_and_remove() {
-        let mut c = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64, 3);
+        let mut c = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64);
         for i in 0..3 {
             c.insert(i, [1, 1, 1]);
         }
-        c.remove(1);
+        c.remove(1, [1, 1, 1]);
         let cell = c.index([1, 1, 1]);
         assert_eq!(c.members(cell), &[0, 2]);
-        c.remove(2);
-        c.remove(0);
+        c.remove(2, [1, 1, 1]);
+        c.remove(0, [1, 1, 1]);
         assert!(c.members(cell).is_empty());
         // A full cell grows and keeps its members.
         for i in 0..3 {
             c.insert(i, [0, 0, 0]);
         }
-        let mut many = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64, 20);
+        let mut many = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64);
         for i in 0..20 {
             many.insert(i, [2, 1, 0]);
         }
-        many.remove(5);
+        many.remove(5, [2, 1, 0]);
         let mut m = many.members(many.index([2, 1, 0])).to_vec();
         m.sort();
         assert_eq!(m, (0..20).filter(|&i| i != 5).collect::<Vec<_>>());

@@ -42,12 +42,17 @@ pub(crate) struct Best {
     /// Whether `pairs` held every pair contact predicted (else the others are later than
     /// `pairs[1]`, and an emptied list calls for a new prediction).
     pub complete: bool,
-    /// Earliest static-shape contact.
+    /// Earliest static-shape contact, and the shape (its kind and index apart, so that the
+    /// record packs into 56 bytes).
     pub wall_t: f64,
-    pub wall: Body,
+    pub wall_kind: ShapeKind,
+    pub wall_index: u32,
     /// When the sphere leaves its shell (its list is then rebuilt).
     pub shell_t: f64,
 }
+
+// Seven records a cache line's worth of eight: the prediction is read at every event.
+const _: () = assert!(std::mem::size_of::<Best>() == 56);
 
 impl Default for Best {
     fn default() -> Self {
@@ -55,7 +60,8 @@ impl Default for Best {
             pairs: [Candidate::NONE; 2],
             complete: true,
             wall_t: f64::INFINITY,
-            wall: Body::new(ShapeKind::Plane, 0),
+            wall_kind: ShapeKind::Plane,
+            wall_index: 0,
             shell_t: f64::INFINITY,
         }
     }
@@ -65,6 +71,12 @@ impl Best {
     #[inline]
     fn time(&self) -> f64 {
         self.pairs[0].t.min(self.wall_t).min(self.shell_t)
+    }
+
+    /// The shape of the earliest static-shape contact.
+    #[inline]
+    fn wall(&self) -> Body {
+        Body::new(self.wall_kind, self.wall_index)
     }
 }
 
@@ -135,9 +147,6 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         + size_of::<u32>()
         + size_of::<Best>()
         + size_of::<u32>()
-        // The grid's `slot_of` and `at` (cells.rs).
-        + size_of::<u32>()
-        + size_of::<[i32; 3]>()
         // The shell record, the list's count and rebuild mark, its entries.
         + size_of::<lists::Shell>()
         + 2 * size_of::<u32>()
@@ -332,7 +341,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 self.schedule(i);
             }
         } else {
-            self.collide_wall(i, b.wall);
+            self.collide_wall(i, b.wall());
         }
     }
 
@@ -373,13 +382,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
         }
         let r = self.m.bodies[i as usize].r;
+        let was = self.cells.coords_of(self.lists.centre[i as usize].c);
         self.lists.centre[i as usize].c = r;
         let c = self.cells.coords_of(r);
-        if c != self.cells.at[i as usize] {
-            self.cells.remove(i);
+        if c != was {
+            self.cells.remove(i, was);
             self.cells.insert(i, c);
         }
-        self.rebuild_list(i, self.once_per_list);
+        self.rebuild_list(i, c, self.once_per_list);
         if self.prune(i) || !self.once_per_list {
             self.predict(i);
         } else {
@@ -514,7 +524,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
             let best = &mut self.best[i as usize];
             best.wall_t = self.now + t;
-            best.wall = wall;
+            (best.wall_kind, best.wall_index) = (wall.kind, wall.index);
         }
         self.predict_shell(i);
     }
@@ -571,7 +581,10 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     fn reorder(&mut self) {
         let n = self.m.bodies.len();
         let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_by_key(|&i| (self.cells.index(self.cells.at[i as usize]), i));
+        let cell: Vec<usize> = (self.lists.centre.iter())
+            .map(|s| self.cells.index(self.cells.coords_of(s.c)))
+            .collect();
+        order.sort_by_key(|&i| (cell[i as usize], i));
         let mut new_of_old = vec![0u32; n];
         for (new, &old) in order.iter().enumerate() {
             new_of_old[old as usize] = new as u32;
@@ -584,7 +597,6 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         self.m.material = take(&self.m.material, &order);
         self.m.counter = take(&self.m.counter, &order);
         self.id_of = take(&self.id_of, &order);
-        let at = take(&self.cells.at, &order);
         self.best = take(&self.best, &order);
         for b in &mut self.best {
             for c in &mut b.pairs {
@@ -593,14 +605,15 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 }
             }
         }
-        self.cells.clear();
-        for (i, &c) in at.iter().enumerate() {
-            self.cells.insert(i as u32, c);
-        }
         if PERIODIC {
             self.images = take(&self.images, &order);
         }
         self.lists.permute(&order, &new_of_old);
+        self.cells.clear();
+        for i in 0..n as u32 {
+            self.cells
+                .insert(i, self.cells.coords_of(self.lists.centre[i as usize].c));
+        }
         self.responder.permute(&new_of_old);
         self.reschedule();
     }

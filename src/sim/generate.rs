@@ -262,7 +262,6 @@ pub fn random_spheres(
         (hi - lo).max(DVec3::splat(2.0 * radius)),
         2.0 * radius,
         4 * n + 64,
-        n,
     );
     let mut out: Vec<SphereState> = room(n, "random spheres")?;
     let mut misses = 0;

@@ -193,7 +193,7 @@ mod tests {
     }
 
     fn grid(n: usize) -> Cells {
-        Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1000, n)
+        Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1000)
     }
 
     /// Each breach is found and named, and the measures are relative to the tolerances.
@@ -248,7 +248,7 @@ mod tests {
         ];
         assert!(check(&far, &grid(2), false, &none, &[]).is_err());
         // A box of three cells a side: every pair is checked once.
-        let small = Cells::new(DVec3::ZERO, DVec3::splat(3.0), 1.0, 27, 2);
+        let small = Cells::new(DVec3::ZERO, DVec3::splat(3.0), 1.0, 27);
         let pair = [
             body(DVec3::new(0.5, 0.5, 0.5), 0.5),
             body(DVec3::new(2.6, 0.5, 0.5), 0.5),

@@ -1,7 +1,7 @@
 //! Short runs of `u32` slots, one run per owner (a cell's spheres, a sphere's list entries),
 //! all runs the same capacity in one array: an owner's run is a contiguous slice, a push and a
-//! swap-remove are O(1), and a full run makes every run four slots longer (rare: the capacity
-//! follows the longest run).
+//! swap-remove are O(1), and a full run makes every run one slot longer (rare: the capacity
+//! is the longest run's).
 
 /// The runs and their lengths.
 #[derive(Debug, Clone)]
@@ -97,10 +97,11 @@ impl Runs {
         (self.slots.capacity() + self.count.capacity()) * 4
     }
 
-    /// Four more slots for every run (the runs keep their values).
+    /// One more slot for every run (the runs keep their values): the capacity is the longest
+    /// run's, and grows a few times in a run.
     #[cold]
     fn grow(&mut self) {
-        let cap = self.cap + 4;
+        let cap = self.cap + 1;
         let mut slots = vec![0u32; self.count.len() * cap];
         for (o, &c) in self.count.iter().enumerate() {
             let c = c as usize;

@@ -111,7 +111,7 @@ impl NeighbourLists {
             reach,
             far: (widest + reach) * (1.0 + REACH_MARGIN),
             centre,
-            entries: Runs::new(n, 16),
+            entries: Runs::new(n, 8),
             seen: vec![0; n],
             epoch: 0,
         }

@@ -87,11 +87,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         kept.result()
     }
 
-    /// Sphere `i`'s new list after its shell event (its centre already moved): off its old
+    /// Sphere `i`'s new list after its shell event (its centre already moved, into cell
+    /// `ci`): off its old
     /// neighbours' lists, then every sphere whose centre is within reach, both ways; the
     /// entries that were not in the old list go into `fresh` when `track_fresh` (a box of
     /// fewer than three cells a side predicts the whole list and skips it).
-    pub(super) fn rebuild_list(&mut self, i: u32, track_fresh: bool) {
+    pub(super) fn rebuild_list(&mut self, i: u32, ci: [i32; 3], track_fresh: bool) {
         let epoch = self.lists.next_epoch();
         for k in 0..self.lists.of(i).len() {
             let (j, code) = split(self.lists.of(i)[k]);
@@ -99,7 +100,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             self.lists.seen[j as usize] = epoch;
         }
         self.lists.clear(i);
-        let found = self.within_reach(i);
+        let found = self.within_reach(i, ci);
         self.fresh.clear();
         for k in 0..found {
             let e = self.found[k];
@@ -117,7 +118,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     pub(super) fn build_lists(&mut self) {
         for i in 0..self.m.bodies.len() as u32 {
             self.lists.clear(i);
-            let found = self.within_reach(i);
+            let ci = self.cells.coords_of(self.lists.centre[i as usize].c);
+            let found = self.within_reach(i, ci);
             for k in 0..found {
                 self.lists.push(i, self.found[k]);
             }
@@ -129,9 +131,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     /// `found`; returns how many. The test
     /// computes `(cⱼ − cᵢ) + shift`, the exact negative of what `j` computes for `i`, so the
     /// lists are symmetric to the bit.
-    fn within_reach(&mut self, i: u32) -> usize {
+    fn within_reach(&mut self, i: u32, ci: [i32; 3]) -> usize {
         let mut found = std::mem::take(&mut self.found);
-        let ci = self.cells.at[i as usize];
         let n = self.cells.n;
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];

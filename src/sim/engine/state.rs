@@ -14,11 +14,13 @@ use crate::sim::response::{Responder, Trajectory};
 
 persist_fields!(Trajectory { r, t, v, radius });
 persist_fields!(Candidate { t, j, counter });
+// The wall's kind and index in `Body`'s own order: the layout of format 3 as before.
 persist_fields!(Best {
     pairs,
     complete,
     wall_t,
-    wall,
+    wall_kind,
+    wall_index,
     shell_t
 });
 
@@ -169,7 +171,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 )));
             }
         }
-        self.check_wall(id, b.wall, b.wall_t)?;
+        self.check_wall(id, b.wall(), b.wall_t)?;
         if [b.pairs[0].t, b.pairs[1].t, b.wall_t, b.shell_t]
             .iter()
             .any(|t| t.is_nan())
@@ -243,7 +245,8 @@ mod tests {
             ],
             complete: false,
             wall_t: 3.5,
-            wall: Body::new(ShapeKind::Cylinder, 9),
+            wall_kind: ShapeKind::Cylinder,
+            wall_index: 9,
             shell_t: 4.5,
         };
         assert_ne!(best, Best::default());
