@@ -192,7 +192,7 @@ mod tests {
         }
     }
 
-    fn grid(n: usize) -> Cells {
+    fn grid() -> Cells {
         Cells::new(DVec3::ZERO, DVec3::splat(10.0), 1.0, 1000)
     }
 
@@ -207,7 +207,7 @@ mod tests {
             body(DVec3::new(6.0, 5.0, 6.0), 0.5),
         ];
         let sides = sides(&apart, &walls);
-        let (pairs, w) = check(&apart, &grid(2), false, &walls, &sides).unwrap();
+        let (pairs, w) = check(&apart, &grid(), false, &walls, &sides).unwrap();
         assert_eq!(pairs, 0.0); // touching exactly
         assert!(w <= 0.0, "{w}");
         // Overlapping by 2⁻¹⁴ of the contact distance: 4 times the tolerance.
@@ -215,17 +215,17 @@ mod tests {
             apart[0],
             body(DVec3::new(6.0 - 1.0 / 16384.0, 5.0, 6.0), 0.5),
         ];
-        let b = check(&close, &grid(2), false, &walls, &sides).unwrap_err();
+        let b = check(&close, &grid(), false, &walls, &sides).unwrap_err();
         assert_eq!((b.sphere, b.other), (0, Body::new(ShapeKind::Sphere, 1)));
         assert!((b.depth / b.tolerance - 4.0).abs() < 1e-6, "{b:?}");
         // Outside the container.
         let out = [apart[0], body(DVec3::new(9.0, 5.0, 5.0), 0.5)];
-        let b = check(&out, &grid(2), false, &walls, &sides).unwrap_err();
+        let b = check(&out, &grid(), false, &walls, &sides).unwrap_err();
         assert_eq!((b.sphere, b.other), (1, Body::new(ShapeKind::Container, 0)));
         assert!((b.depth - 0.5).abs() < 1e-12);
         // Across the plane, well clear of it: a breach by the whole way back.
         let across = [apart[0], body(DVec3::new(6.0, 5.0, 0.5), 0.5)];
-        let b = check(&across, &grid(2), false, &walls, &sides).unwrap_err();
+        let b = check(&across, &grid(), false, &walls, &sides).unwrap_err();
         assert_eq!((b.sphere, b.other), (1, Body::new(ShapeKind::Plane, 0)));
         assert!((b.depth - 2.0).abs() < 1e-12, "{b:?}");
     }
@@ -238,15 +238,15 @@ mod tests {
             body(DVec3::new(0.2, 5.0, 5.0), 0.5),
             body(DVec3::new(9.3, 5.0, 5.0), 0.5),
         ];
-        let b = check(&wrap, &grid(2), true, &none, &[]).unwrap_err();
+        let b = check(&wrap, &grid(), true, &none, &[]).unwrap_err();
         assert_eq!(b.other, Body::new(ShapeKind::Sphere, 1));
-        assert!(check(&wrap, &grid(2), false, &none, &[]).is_ok());
+        assert!(check(&wrap, &grid(), false, &none, &[]).is_ok());
         // Both far outside the grid, clamped into the same edge cell.
         let far = [
             body(DVec3::new(100.0, 5.0, 5.0), 0.5),
             body(DVec3::new(100.5, 5.0, 5.0), 0.5),
         ];
-        assert!(check(&far, &grid(2), false, &none, &[]).is_err());
+        assert!(check(&far, &grid(), false, &none, &[]).is_err());
         // A box of three cells a side: every pair is checked once.
         let small = Cells::new(DVec3::ZERO, DVec3::splat(3.0), 1.0, 27);
         let pair = [
