@@ -45,8 +45,8 @@ fn sticky_mix(n: usize, e: f64) -> World {
 /// The up-front estimate is an upper bound on what a fresh simulation holds, and not
 /// more than twice it: for periodic gases (four cells per sphere at most), an open scene
 /// in a container (`2n + 64` cells at most), one sphere and none. Tiny worlds may also
-/// get the fixed part of the largest grid (`2n + 64` cells of 36 B and two buckets of
-/// 88 B: under 4 KiB for `n ≤ 1`).
+/// get the fixed part of the largest grid (`2n + 64` cells of 36 B and the calendar's two
+/// bucket heads: under 4 KiB for `n ≤ 1`).
 #[test]
 fn the_memory_estimate_bounds_a_fresh_simulation_within_a_factor_of_two() {
     let mut worlds = Vec::new();
