@@ -1,9 +1,10 @@
 //! The engine's cell list of shell centres: a uniform grid of cells at least one largest
-//! diameter and the shell wide, each a short contiguous array of sphere indices (swap-remove),
-//! so a sphere moves between cells in O(1) at its shell event and a list rebuild reads its
-//! neighbours' indices without chasing pointers (the generator uses it for spacing too). Periodic boxes wrap; an open domain clamps, so its outermost cells reach to
-//! infinity (a sphere that leaves the domain stays in an edge cell and is still found by its
-//! neighbours).
+//! diameter and the shell wide, each a short contiguous array of sphere indices, so a sphere
+//! moves between cells at its shell event by a scan of its old cell's few members and a push,
+//! and a list rebuild reads its neighbours' indices without chasing pointers (the generator
+//! uses it for spacing too). A sphere's cell is not stored: it is `coords_of` its shell centre.
+//! Periodic boxes wrap; an open domain clamps, so its outermost cells reach to infinity (a
+//! sphere that leaves the domain stays in an edge cell and is still found by its neighbours).
 
 use glam::DVec3;
 
