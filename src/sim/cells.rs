@@ -79,6 +79,12 @@ impl Cells {
         self.runs.of(cell)
     }
 
+    /// The most spheres a cell holds now (the runs' capacity).
+    #[inline]
+    pub fn cell_capacity(&self) -> usize {
+        self.runs.capacity()
+    }
+
     /// Adds sphere `i` to cell `c`.
     #[inline]
     pub fn insert(&mut self, i: u32, c: [i32; 3]) {

@@ -73,6 +73,12 @@ impl Runs {
         self.count.fill(0);
     }
 
+    /// The longest a run can be before the next push grows them all.
+    #[inline]
+    pub fn capacity(&self) -> usize {
+        self.cap
+    }
+
     /// Owners.
     pub fn owners(&self) -> usize {
         self.count.len()

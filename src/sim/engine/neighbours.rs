@@ -137,19 +137,22 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];
         let reach = self.lists.reach;
+        // Room for every member of 27 full cells, once.
+        let room = 27 * self.cells.cell_capacity();
+        if found.len() < room {
+            found.resize(room, 0);
+        }
         // Every member is written and only those within reach are counted: no branch to
-        // mispredict, so the members' loads overlap.
+        // mispredict, so the members' loads overlap. Sphere `i` itself is counted too (once:
+        // its own images are at least a box length, three cells, away) and taken out after.
         let mut len = 0;
         let mut scan = |members: &[u32], code: u8, shift: DVec3| {
-            if found.len() < len + members.len() {
-                found.resize(2 * (len + members.len()), 0);
-            }
             for &j in members {
                 let sj = &centre[j as usize];
                 let dr = (sj.c - si.c) + shift;
                 let d = si.radius + sj.radius + reach;
                 found[len] = entry(j, code);
-                len += usize::from((dr.length_squared() <= d * d) & (j != i));
+                len += usize::from(dr.length_squared() <= d * d);
             }
         };
         let Stencil { gap, coord, shift } = Stencil::around::<PERIODIC>(&self.cells, ci, si.c);
@@ -176,10 +179,18 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 }
             }
         }
+        let own = entry(i, SELF_CODE);
+        if let Some(k) = found[..len].iter().position(|&e| e == own) {
+            found.swap(k, len - 1);
+            len -= 1;
+        }
         self.found = found;
         len
     }
 }
+
+/// The shift code of a sphere's own cell (offset 0 on every axis).
+const SELF_CODE: u8 = 13;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
 struct Stencil {
