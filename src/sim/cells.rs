@@ -25,7 +25,8 @@ pub(crate) struct Cells {
     /// Box lengths (periodic), `n · w`.
     pub len: DVec3,
     /// Each cell's spheres. A sphere's cell is not stored: it is `coords_of` its shell
-    /// centre, which changes only when the sphere moves cells.
+    /// centre, which moves at each of its shell events (and the sphere with it, when the
+    /// cell changes).
     runs: Runs,
 }
 
@@ -97,6 +98,10 @@ impl Cells {
     #[inline]
     pub fn remove(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
+        debug_assert!(
+            self.members(cell).contains(&i),
+            "sphere {i} is not in cell {c:?}"
+        );
         self.runs.remove_value(cell, i);
     }
 

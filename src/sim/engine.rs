@@ -135,8 +135,8 @@ pub(crate) struct Engine<
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
 /// from the sizes of its arrays (the ones [`Engine::bytes`] counts) as [`Engine::new`] sizes
-/// them: per sphere its body, mass, material, counter, prediction, order, cell entry, shell
-/// record and a list of [`LIST_ESTIMATE`] entries; the calendar (a slot per sphere, a bucket
+/// them: per sphere its body, mass, material, counter, prediction, order, shell record and a
+/// list of [`LIST_ESTIMATE`] entries; the calendar (a slot per sphere, a bucket
 /// head per sphere rounded up to a power of two) and eight slots per cell. Known before
 /// anything is allocated.
 pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {

@@ -1,7 +1,7 @@
 //! Short runs of `u32` slots, one run per owner (a cell's spheres, a sphere's list entries),
 //! all runs the same capacity in one array: an owner's run is a contiguous slice, a push and a
-//! swap-remove are O(1), and a full run makes every run one slot longer (rare: the capacity
-//! is the longest run's).
+//! swap-remove are O(1), and a full run makes every run one slot longer (a copy of every run,
+//! once for each new longest length: the capacity is the longest run's).
 
 /// The runs and their lengths.
 #[derive(Debug, Clone)]
@@ -104,7 +104,7 @@ impl Runs {
     }
 
     /// One more slot for every run (the runs keep their values): the capacity is the longest
-    /// run's, and grows a few times in a run.
+    /// run's.
     #[cold]
     fn grow(&mut self) {
         let cap = self.cap + 1;

@@ -143,8 +143,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             found.resize(room, 0);
         }
         // Every member is written and only those within reach are counted: no branch to
-        // mispredict, so the members' loads overlap. Sphere `i` itself is counted too (once:
-        // its own images are at least a box length, three cells, away) and taken out after.
+        // mispredict, so the members' loads overlap. Sphere `i` itself is counted too, and
+        // taken out after: it is there once, under the code of no shift. Its images are a box
+        // length away, and a periodic box is at least three largest diameters
+        // (`assemble.rs`), more than `2rᵢ + reach` (at most two, and the margins); an open
+        // domain has no images.
         let mut len = 0;
         let mut scan = |members: &[u32], code: u8, shift: DVec3| {
             for &j in members {
@@ -180,7 +183,9 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             }
         }
         let own = entry(i, SELF_CODE);
-        if let Some(k) = found[..len].iter().position(|&e| e == own) {
+        let at = found[..len].iter().position(|&e| e == own);
+        debug_assert!(at.is_some(), "sphere {i} did not find itself");
+        if let Some(k) = at {
             found.swap(k, len - 1);
             len -= 1;
         }
