@@ -150,8 +150,17 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         let n = self.m.bodies.len();
         let id = self.id_of[k];
         let (b, c) = (self.m.bodies[k], self.lists.centre[k].c);
+        if b.t > self.now {
+            return Err(bad(format!(
+                "sphere {id}: its time {} is after the checkpoint's {}",
+                b.t, self.now
+            )));
+        }
+        // Where it was and where it is now: both within the shell (found by fuzzing: a
+        // sphere at its own time 10¹³⁹ before now left the box and its shell).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
-        let away = (b.r - c).length();
+        let now = b.r + b.v * (self.now - b.t);
+        let away = (b.r - c).length().max((now - c).length());
         if away.is_nan() || away > limit {
             return Err(bad(format!(
                 "sphere {id}: {away} from its shell centre, beyond the shell's {}",
