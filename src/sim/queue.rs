@@ -229,6 +229,13 @@ impl Calendar {
         if self.linked == 0 {
             self.far
                 .retain(|e| e.version == self.version[e.sphere as usize]);
+            if self.far.is_empty() {
+                // No event is held anywhere (the heap is empty too): none is pending, and
+                // `pop` ends instead of turning the ring for ever.
+                debug_assert_eq!(self.len, 0, "the calendar counts events it does not hold");
+                self.len = 0;
+                return;
+            }
             let first = self.far.iter().map(|e| self.bucket_of(e.t)).min();
             self.current = first.unwrap_or(self.current).saturating_sub(1);
             self.refill_from_far();
