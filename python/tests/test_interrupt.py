@@ -14,6 +14,10 @@ import pytest
 import spheresweep as ss
 
 CHILD = r"""
+import signal
+# Ctrl-C's own handler, whatever the parent left: a child started from a background job
+# inherits SIGINT ignored, and Python then installs no handler (the test hung for that).
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import spheresweep as ss
 sim = ss.Simulation.periodic_gas(20000, 0.3)
 sim.advance_to(0.01)
