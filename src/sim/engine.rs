@@ -3,8 +3,9 @@
 //! per-sphere time, and re-prediction of only the spheres an event touched.
 //!
 //! Stages of one event, in order (`step`): pop the earliest sphere's event (a re-predicted
-//! sphere's older event was dropped from the calendar); then a shell event rebuilds the sphere's list from the cells around its
-//! new centre and predicts it against the entries new to it only; a pair event whose partner
+//! sphere's older event was dropped from the calendar); then a shell event rebuilds the
+//! sphere's list from the cells around its new centre and predicts it against the entries new
+//! to it only; a pair event whose partner
 //! changed since the prediction is predicted again; a real collision advances the bodies,
 //! applies the [`Responder`] and predicts every changed sphere against its list, four pairs at
 //! a time in f64 lanes (`predict`). The cell grid is touched only at shell events.

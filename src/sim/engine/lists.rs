@@ -11,9 +11,8 @@ use glam::DVec3;
 
 use crate::sim::runs::Runs;
 
-/// The shift code of no periodic shift (every entry's in an open domain) (`x + 3y + 9z` with each of `x, y, z` in `0…2` for a
-/// shift of `−1, 0, +1` box lengths).
-#[cfg(test)]
+/// The shift code of no periodic shift (every entry's in an open domain; `x + 3y + 9z` with
+/// each of `x, y, z` in `0…2` for a shift of `−1, 0, +1` box lengths).
 pub(crate) const NO_SHIFT: u8 = 13;
 
 /// Bits of an entry that hold the shift code.

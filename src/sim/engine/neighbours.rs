@@ -2,7 +2,7 @@
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
 //! four at a time; the two earliest are kept (`predict_pairs`).
 
-use super::lists::{entry, mirror, split};
+use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Group, Kept};
 
@@ -88,8 +88,8 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     }
 
     /// Sphere `i`'s new list after its shell event (its centre already moved, into cell
-    /// `ci`): off its old
-    /// neighbours' lists, then every sphere whose centre is within reach, both ways; the
+    /// `ci`): off its old neighbours' lists, then every sphere whose centre is within reach,
+    /// both ways; the
     /// entries that were not in the old list go into `fresh` when `track_fresh` (a box of
     /// fewer than three cells a side predicts the whole list and skips it).
     pub(super) fn rebuild_list(&mut self, i: u32, ci: [i32; 3], track_fresh: bool) {
@@ -182,7 +182,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
                 }
             }
         }
-        let own = entry(i, SELF_CODE);
+        let own = entry(i, NO_SHIFT);
         // (Not found only where its centre is not finite: a damaged state the checks refuse.)
         if let Some(k) = found[..len].iter().position(|&e| e == own) {
             found.swap(k, len - 1);
@@ -192,9 +192,6 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         len
     }
 }
-
-/// The shift code of a sphere's own cell (offset 0 on every axis).
-const SELF_CODE: u8 = 13;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
 struct Stencil {
