@@ -276,6 +276,7 @@ fn jet_world(per_nozzle: usize) -> Result<World, String> {
             tc: 1e-3,
             geometry: true,
             record_events: true,
+            gravity: DVec3::ZERO,
         },
         ..World::default()
     };

@@ -9,6 +9,7 @@
 //!
 //! [`Accuracy::Double`]: crate::Accuracy::Double
 
+pub(crate) mod falling;
 pub(crate) mod quadratic;
 pub(crate) mod sphere_container;
 pub(crate) mod sphere_cylinder;
@@ -53,6 +54,10 @@ pub trait StaticKernel: Sync {
         let _ = side;
         self.normal_gap(r, radius).1
     }
+    /// Under a uniform acceleration (`h = g/2`): the polynomial of degree at most four whose
+    /// earliest rise through zero ([`falling::earliest_rise`]) is the contact of a sphere at
+    /// `r` moving at `v` (each kind's own, in its kernel file).
+    fn falling_polynomial(&self, r: DVec3, v: DVec3, h: DVec3, radius: f64) -> falling::Poly;
     /// For a concave wall that keeps spheres inside (a container): its centre and radius.
     fn interior(&self) -> Option<(DVec3, f64)> {
         None
@@ -106,6 +111,16 @@ macro_rules! static_kernel {
             #[inline]
             fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64) {
                 $kernel::normal_gap(self, r, radius)
+            }
+            #[inline]
+            fn falling_polynomial(
+                &self,
+                r: DVec3,
+                v: DVec3,
+                h: DVec3,
+                radius: f64,
+            ) -> falling::Poly {
+                $kernel::falling_polynomial(self, r, v, h, radius)
             }
             $($extra)*
         }

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use super::falling::Poly;
 use super::quadratic::{Relative3, Solver};
 use crate::Container;
 use crate::contact::Side;
@@ -67,4 +68,22 @@ pub(crate) fn normal_gap(k: &Container, r: DVec3, radius: f64) -> (DVec3, f64) {
 #[cfg(test)]
 pub(crate) fn least_gap_on_path(k: &Container, r: DVec3, end: DVec3, radius: f64) -> f64 {
     normal_gap(k, r, radius).1.min(normal_gap(k, end, radius).1)
+}
+
+/// Under a uniform acceleration (`h = g/2`), the polynomial whose rise through zero is the
+/// contact of a sphere at `r` moving at `v` with the wall from inside:
+/// `‖x + v t + h t²‖² − D²` with `x = r − c_K` and `D = R_K − R` — a quartic
+/// (docs/derivations/gravity.md).
+#[inline]
+pub(crate) fn falling_polynomial(k: &Container, r: DVec3, v: DVec3, h: DVec3, radius: f64) -> Poly {
+    let x = r - k.centre().as_dvec3();
+    let d = f64::from(k.radius()) - radius;
+    let q = x.length();
+    [
+        (q - d) * (q + d),
+        2.0 * x.dot(v),
+        v.length_squared() + 2.0 * x.dot(h),
+        2.0 * v.dot(h),
+        h.length_squared(),
+    ]
 }

@@ -7,6 +7,7 @@
 
 use glam::DVec3;
 
+use super::falling::Poly;
 use super::quadratic::{Relative2, Relative3, Solver};
 use super::sphere_plane::split;
 use crate::Cylinder;
@@ -160,4 +161,26 @@ pub(crate) fn least_gap_on_path(
         0.0
     };
     (x + w * t).length() - radius - f64::from(c.radius())
+}
+
+/// Under a uniform acceleration (`h = g/2`), the polynomial whose rise through zero is the
+/// contact of a sphere at `r` moving at `v` with the cylinder from outside:
+/// `L² − ‖x⊥ + v⊥ t + h⊥ t²‖²` with `L = R_C + R` and `⊥` the part across the axis — a quartic,
+/// a quadratic when `g` is along the axis (docs/derivations/gravity.md).
+#[inline]
+pub(crate) fn falling_polynomial(c: &Cylinder, r: DVec3, v: DVec3, h: DVec3, radius: f64) -> Poly {
+    let s = crate::contact::unit_axis(c);
+    let perp = |u: DVec3| u - s * u.dot(s);
+    let (x, w, k) = (perp(r - c.point().as_dvec3()), perp(v), perp(h));
+    let reach = f64::from(c.radius()) + radius;
+    let q = x.length();
+    // ‖x⊥(t)‖² − L², its constant term without cancellation; then negated.
+    let f = [
+        (q - reach) * (q + reach),
+        2.0 * x.dot(w),
+        w.length_squared() + 2.0 * x.dot(k),
+        2.0 * w.dot(k),
+        k.length_squared(),
+    ];
+    f.map(|a| -a)
 }

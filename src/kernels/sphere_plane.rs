@@ -6,8 +6,10 @@
 //! (docs/derivations/accuracy.md, "Compensated offsets"). `Textbook` is the literal formula;
 //! f64 lanes subtract exactly.
 
-use super::quadratic::{Relative1, Solver};
 use glam::DVec3;
+
+use super::falling::Poly;
+use super::quadratic::{Relative1, Solver};
 
 use crate::Plane;
 use crate::contact::Side;
@@ -114,4 +116,16 @@ pub(crate) fn gap_on_side(p: &Plane, r: DVec3, radius: f64, side: bool) -> f64 {
 pub(crate) fn least_gap_on_path(p: &Plane, r: DVec3, end: DVec3, radius: f64) -> f64 {
     let side = side(p, r);
     gap_on_side(p, r, radius, side).min(gap_on_side(p, end, radius, side))
+}
+
+/// Under a uniform acceleration `g` (`h = g/2`), the polynomial whose rise through zero is the
+/// contact of a sphere at `r` moving at `v` with the plane from the centre's side: minus the
+/// gap, `R − s·n̂·(x + v t + h t²)` with `x = r − r_P` and `s = ±1` the side — a quadratic
+/// (docs/derivations/gravity.md).
+#[inline]
+pub(crate) fn falling_polynomial(p: &Plane, r: DVec3, v: DVec3, h: DVec3, radius: f64) -> Poly {
+    let n = crate::contact::unit_normal(p);
+    let d = (r - p.point().as_dvec3()).dot(n);
+    let s = if d >= 0.0 { 1.0 } else { -1.0 };
+    [radius - d.abs(), -s * v.dot(n), -s * h.dot(n), 0.0, 0.0]
 }

@@ -55,6 +55,7 @@ impl Simulation {
             periodic,
             walls: !walls.is_empty(),
             geometry: world.effects.geometry && world.effects.record_events,
+            gravity: world.effects.gravity != DVec3::ZERO,
         };
         let parts = Parts {
             m,
@@ -62,17 +63,18 @@ impl Simulation {
             delta,
             walls,
             log: world.effects.record_events,
+            tc: world.effects.tc,
         };
         let engine = match response {
-            ResponseChoice::ReportOnly => pick_periodic(
+            ResponseChoice::ReportOnly => pick_motion(
                 ReportOnly {
                     partner: vec![cells::NONE; n],
                 },
                 switches,
                 parts,
             ),
-            ResponseChoice::Elastic => pick_periodic(Elastic, switches, parts),
-            ResponseChoice::Materials { table, count } => pick_periodic(
+            ResponseChoice::Elastic => pick_motion(Elastic, switches, parts),
+            ResponseChoice::Materials { table, count } => pick_motion(
                 Materials::new(table, count, world.effects.tc, &masses.clone()),
                 switches,
                 parts,
@@ -196,6 +198,7 @@ fn motion(world: &World, cells: &Cells, periodic: bool) -> Motion {
         mass: world.spheres.iter().map(|s| s.mass).collect(),
         material: world.spheres.iter().map(|s| s.material).collect(),
         counter: vec![0; n],
+        g: world.effects.gravity,
     };
     for s in &world.spheres {
         let mut r = s.centre;
@@ -270,6 +273,8 @@ struct Switches {
     walls: bool,
     /// Contact point and normal in the event log.
     geometry: bool,
+    /// A uniform acceleration (never with `periodic`).
+    gravity: bool,
 }
 
 /// What every engine is built from, whatever its type.
@@ -280,37 +285,36 @@ struct Parts {
     delta: f64,
     walls: Statics<u16>,
     log: bool,
+    /// The TC model's duration: under gravity, a resting sphere's least hop.
+    tc: f64,
 }
 
-// The choice of engine, one switch at a time: `pick_periodic` fixes `PERIODIC`, `pick_walls`
-// `WALLS`, `pick_geometry` `GEOMETRY`; each responder therefore has the eight engines of its
-// switches, and nothing else is monomorphised.
+// The choice of engine, one switch at a time: `pick_motion` fixes `PERIODIC` and `GRAVITY`
+// (gravity is refused in a periodic box), `pick_walls` `WALLS`, `pick_geometry` `GEOMETRY`;
+// each responder therefore has the twelve engines of its switches, and nothing else is
+// monomorphised.
 
-fn pick_periodic<R: Responder + Clusters + 'static>(
-    r: R,
-    s: Switches,
-    parts: Parts,
-) -> Box<dyn Run> {
-    if s.periodic {
-        pick_walls::<R, true>(r, s, parts)
-    } else {
-        pick_walls::<R, false>(r, s, parts)
+fn pick_motion<R: Responder + Clusters + 'static>(r: R, s: Switches, parts: Parts) -> Box<dyn Run> {
+    match (s.periodic, s.gravity) {
+        (true, _) => pick_walls::<R, true, false>(r, s, parts),
+        (false, true) => pick_walls::<R, false, true>(r, s, parts),
+        (false, false) => pick_walls::<R, false, false>(r, s, parts),
     }
 }
 
-fn pick_walls<R: Responder + Clusters + 'static, const P: bool>(
+fn pick_walls<R: Responder + Clusters + 'static, const P: bool, const F: bool>(
     r: R,
     s: Switches,
     parts: Parts,
 ) -> Box<dyn Run> {
     if s.walls {
-        pick_geometry::<R, P, true>(r, s, parts)
+        pick_geometry::<R, P, true, F>(r, s, parts)
     } else {
-        pick_geometry::<R, P, false>(r, s, parts)
+        pick_geometry::<R, P, false, F>(r, s, parts)
     }
 }
 
-fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool>(
+fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool, const F: bool>(
     r: R,
     s: Switches,
     parts: Parts,
@@ -321,13 +325,16 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
         delta,
         walls,
         log,
+        tc,
     } = parts;
     if s.geometry {
-        Box::new(Engine::<R, P, W, true>::new(m, cells, delta, walls, r, log))
+        let mut e = Engine::<R, P, W, true, F>::new(m, cells, delta, walls, r, log);
+        e.rest_time = tc;
+        Box::new(e)
     } else {
-        Box::new(Engine::<R, P, W, false>::new(
-            m, cells, delta, walls, r, log,
-        ))
+        let mut e = Engine::<R, P, W, false, F>::new(m, cells, delta, walls, r, log);
+        e.rest_time = tc;
+        Box::new(e)
     }
 }
 

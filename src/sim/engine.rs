@@ -32,7 +32,7 @@ mod state;
 
 pub(crate) use super::predict::Candidate;
 pub(crate) use lists::MAX_SPHERES;
-use lists::{NeighbourLists, shell_exit};
+use lists::{NeighbourLists, shell_exit, shell_exit_falling};
 use neighbours::merge;
 
 /// What a sphere's pending event is.
@@ -87,6 +87,7 @@ pub(crate) struct Engine<
     const PERIODIC: bool,
     const WALLS: bool,
     const GEOMETRY: bool,
+    const GRAVITY: bool,
 > {
     pub m: Motion,
     pub best: Vec<Best>,
@@ -128,6 +129,9 @@ pub(crate) struct Engine<
     /// Fault injection for the tests that show the invariant check fires: the concave-wall
     /// floor off and the old container policy (see `Simulation::break_walls_for_testing`).
     pub broken_walls: bool,
+    /// Under gravity: the least time a sphere resting on a wall takes to come back to it (the
+    /// TC model's duration, or `0`: then only rounding sets its hops, `walls::hop_speed`).
+    pub rest_time: f64,
     /// Periodic boxes only (else empty): how many times each sphere has been wrapped across
     /// each axis (`+1` leaving through the upper face), so that its unwrapped position is its
     /// position plus `images · len`.
@@ -164,8 +168,13 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
 /// volume fraction `φ` with shell `s` (times the largest diameter), 14 at φ = 0.5.
 const LIST_ESTIMATE: usize = 24;
 
-impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
-    Engine<R, PERIODIC, WALLS, GEOMETRY>
+impl<
+    R: Responder,
+    const PERIODIC: bool,
+    const WALLS: bool,
+    const GEOMETRY: bool,
+    const GRAVITY: bool,
+> Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
     /// Assembles the engine at time 0 with shells of half-width `delta`, builds every list
     /// and predicts every sphere.
@@ -214,6 +223,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             since_reorder: 0,
             width: 1.0,
             broken_walls: false,
+            rest_time: 0.0,
             images: if PERIODIC {
                 vec![[0; 3]; n]
             } else {
@@ -459,7 +469,17 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             self.walls.floor(wall, bi.radius, gap, bi.v.length(), now)
         };
         let mut out = std::mem::take(&mut self.outcome).cleared();
-        let contact = Wall { n, material, floor };
+        let hop = if GRAVITY {
+            super::walls::hop_speed(self.m.g, n, bi.r, bi.radius, self.rest_time)
+        } else {
+            0.0
+        };
+        let contact = Wall {
+            n,
+            material,
+            floor,
+            hop,
+        };
         self.responder.wall(&mut self.m, i, contact, now, &mut out);
         self.stats.wall_collisions += 1;
         self.account(&out);
@@ -513,9 +533,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         };
         if WALLS {
             let b = self.m.bodies[i as usize];
-            let (mut t, wall) = self
-                .walls
-                .earliest(b.r, b.v, b.radius, &mut self.stats.kernels);
+            let (mut t, wall) = if GRAVITY {
+                let counts = &mut self.stats.kernels;
+                (self.walls).earliest_falling(b.r, b.v, self.m.g, b.radius, counts)
+            } else {
+                (self.walls).earliest(b.r, b.v, b.radius, &mut self.stats.kernels)
+            };
             if self.broken_walls
                 && t == 0.0
                 && self.walls.past_and_inwards(wall, b.r, b.v, b.radius)
@@ -535,7 +558,12 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     fn predict_shell(&mut self, i: u32) {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;
-        self.best[i as usize].shell_t = self.now + shell_exit(p, b.v, self.lists.delta);
+        let t = if GRAVITY {
+            shell_exit_falling(p, b.v, self.m.g, self.lists.delta)
+        } else {
+            shell_exit(p, b.v, self.lists.delta)
+        };
+        self.best[i as usize].shell_t = self.now + t;
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
@@ -543,7 +571,11 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
     pub fn current(&self) -> Vec<Trajectory> {
         let mut out = vec![Trajectory::default(); self.m.bodies.len()];
         for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
-            let mut r = b.r + b.v * (self.now - b.t);
+            let (mut r, v) = if GRAVITY {
+                b.at(self.now, self.m.g)
+            } else {
+                (b.r + b.v * (self.now - b.t), b.v)
+            };
             if PERIODIC {
                 let len = self.cells.len;
                 r -= len * (r / len).floor();
@@ -551,6 +583,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
             out[id as usize] = Trajectory {
                 r,
                 t: self.now,
+                v,
                 ..*b
             };
         }

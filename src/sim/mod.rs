@@ -503,11 +503,51 @@ impl Simulation {
     /// # Ok::<(), spheresweep::sim::SimError>(())
     /// ```
     pub fn kinetic_energy(&self) -> f64 {
-        let m = self.engine.motion();
+        let (m, now) = (self.engine.motion(), self.engine.now());
         m.bodies
             .iter()
             .zip(&m.mass)
-            .map(|(b, &mass)| 0.5 * mass * b.v.length_squared())
+            .map(|(b, &mass)| 0.5 * mass * b.at(now, m.g).1.length_squared())
+            .sum()
+    }
+
+    /// Total potential energy in the uniform gravity `g` of [`Effects::gravity`],
+    /// `Σ −m g·r` (zero at the origin; always `0` without gravity). Under gravity
+    /// `kinetic_energy() + potential_energy() + stats().energy_lost` stays what it was at the
+    /// start (docs/derivations/gravity.md, "Energy").
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use spheresweep::sim::{Effects, Simulation, SphereState, World};
+    /// // A ball dropped from height 2 in g = −9.81 ẑ, with no floor.
+    /// let world = World {
+    ///     spheres: vec![SphereState {
+    ///         centre: DVec3::new(0.0, 0.0, 2.0),
+    ///         velocity: DVec3::ZERO,
+    ///         radius: 0.5,
+    ///         mass: 1.0,
+    ///         material: 0,
+    ///     }],
+    ///     effects: Effects { gravity: DVec3::new(0.0, 0.0, -9.81), ..Effects::default() },
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// let e0 = sim.kinetic_energy() + sim.potential_energy();
+    /// assert!((sim.potential_energy() - 2.0 * 9.81).abs() < 1e-12);
+    /// sim.advance_to(0.5)?;
+    /// assert!((sim.spheres()[0].centre.z - (2.0 - 0.5 * 9.81 * 0.25)).abs() < 1e-12);
+    /// assert!((sim.kinetic_energy() + sim.potential_energy() - e0).abs() < 1e-12);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn potential_energy(&self) -> f64 {
+        let (m, now) = (self.engine.motion(), self.engine.now());
+        if m.g == DVec3::ZERO {
+            return 0.0;
+        }
+        m.bodies
+            .iter()
+            .zip(&m.mass)
+            .map(|(b, &mass)| -mass * m.g.dot(b.at(now, m.g).0))
             .sum()
     }
 
@@ -536,11 +576,11 @@ impl Simulation {
     /// # Ok::<(), spheresweep::sim::SimError>(())
     /// ```
     pub fn momentum(&self) -> DVec3 {
-        let m = self.engine.motion();
+        let (m, now) = (self.engine.motion(), self.engine.now());
         m.bodies
             .iter()
             .zip(&m.mass)
-            .map(|(b, &mass)| b.v * mass)
+            .map(|(b, &mass)| b.at(now, m.g).1 * mass)
             .sum()
     }
 

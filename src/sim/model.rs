@@ -108,6 +108,10 @@ pub struct Effects {
     pub geometry: bool,
     /// Whether events are recorded (see `Simulation::take_events`).
     pub record_events: bool,
+    /// A uniform acceleration every sphere feels (zero: none, and the engine has no gravity
+    /// code at all). Static shapes and a cluster stuck to one stay put. Refused with a
+    /// periodic box (it is periodic along every axis, so along `g`) and with sticky responses.
+    pub gravity: DVec3,
 }
 
 /// Where the spheres live.
@@ -413,11 +417,43 @@ impl World {
                 fx.tc
             )));
         }
+        self.validate_gravity()?;
         if let Boundary::OpenBox { lo, hi } = self.boundary
             && !(finite3(lo) && finite3(hi) && hi.cmpgt(lo).all())
         {
             return Err(SimError::Effects(format!(
                 "open box [{lo}, {hi}] must be finite with hi > lo on every axis"
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl World {
+    /// Gravity: finite, never along a periodic axis (a periodic box wraps every axis), and not
+    /// with sticky responses (a cluster stuck to a shape would have to be held against it).
+    fn validate_gravity(&self) -> Result<(), SimError> {
+        let fx = &self.effects;
+        let g = fx.gravity;
+        if !finite3(g) {
+            return Err(SimError::Effects(format!("gravity {g} must be finite")));
+        }
+        if g == DVec3::ZERO {
+            return Ok(());
+        }
+        if let Boundary::Periodic { .. } = self.boundary {
+            return Err(SimError::Effects(format!(
+                "gravity {g} with a periodic box: the box wraps every axis, so spheres would \
+                 fall for ever along g; use an open box with a floor (planes) instead"
+            )));
+        }
+        let sticky = std::iter::once(&fx.response)
+            .chain(fx.pairs.iter().map(|p| &p.response))
+            .any(|r| *r == Response::Sticky);
+        if sticky {
+            return Err(SimError::Effects(format!(
+                "gravity {g} with a sticky response: not supported (a cluster stuck to a \
+                 shape would have to be held against gravity)"
             )));
         }
         Ok(())

@@ -19,6 +19,16 @@ pub(crate) struct Trajectory {
     pub radius: f64,
 }
 
+impl Trajectory {
+    /// Centre and velocity at time `t` under the uniform acceleration `g`: the parabola
+    /// `r + v Δt + g Δt²/2` (a straight line when `g` is zero, to the same bits).
+    #[inline(always)]
+    pub fn at(&self, t: f64, g: DVec3) -> (DVec3, DVec3) {
+        let dt = t - self.t;
+        (self.r + self.v * dt + g * (0.5 * dt * dt), self.v + g * dt)
+    }
+}
+
 /// Everything a response may change.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Motion {
@@ -27,14 +37,21 @@ pub(crate) struct Motion {
     pub material: Vec<u16>,
     /// Bumped at every velocity change: a prediction made against an older value is stale.
     pub counter: Vec<u32>,
+    /// The uniform acceleration every sphere feels (zero without gravity).
+    pub g: DVec3,
 }
 
 impl Motion {
-    /// Moves sphere `s` along its line to time `now`.
+    /// Moves sphere `s` along its path to time `now` (a parabola under gravity).
     #[inline(always)]
     pub fn advance(&mut self, s: u32, now: f64) {
+        let g = self.g;
         let b = &mut self.bodies[s as usize];
-        b.r += b.v * (now - b.t);
+        if g == DVec3::ZERO {
+            b.r += b.v * (now - b.t);
+        } else {
+            (b.r, b.v) = b.at(now, g);
+        }
         b.t = now;
     }
 
@@ -148,6 +165,23 @@ pub(crate) struct Wall {
     /// plane, a cylinder), which a sphere leaving it never meets again on a straight line; a
     /// container's floor for concave walls ([`leave_wall`]).
     pub floor: f64,
+    /// Least normal speed at which the sphere leaves, under gravity that presses it against
+    /// the wall: a resting sphere hops ([`hop_off`], `walls::hop_speed`); `0` otherwise.
+    pub hop: f64,
+}
+
+/// The velocity `v` with its normal part raised to at least `hop` (unchanged when it is
+/// already), and the kinetic energy per unit mass that added: a sphere resting on a wall under
+/// gravity leaves in hops of a least height instead of meeting the wall again at the same
+/// time for ever (docs/derivations/gravity.md, "Resting contact").
+#[inline]
+pub(crate) fn hop_off(v: DVec3, n: DVec3, hop: f64) -> (DVec3, f64) {
+    let w = v.dot(n);
+    if w >= hop || w.is_nan() {
+        return (v, 0.0);
+    }
+    let out = v + n * (hop - w);
+    (out, 0.5 * (out.length_squared() - v.length_squared()))
 }
 
 /// The velocity with which a sphere leaves a wall, `v` being what the response gives it: `v`
@@ -294,8 +328,15 @@ impl Responder for Elastic {
         let v = m.bodies[i as usize].v;
         let (u, guarded) = normal_impulse(v, wall.n);
         let (v, slid) = leave_wall(v + wall.n * (2.0 * u), wall.n, wall.floor);
+        let (v, added) = hop_off(v, wall.n, wall.hop);
+        let energy_lost = if added > 0.0 {
+            -added * m.mass[i as usize]
+        } else {
+            0.0
+        };
         m.set_velocity(i, v, now);
         *out = Outcome {
+            energy_lost,
             approach: u,
             restitution: 1.0,
             guarded,
@@ -589,6 +630,10 @@ impl Responder for Materials {
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);
+        let (v, added) = hop_off(v, n, wall.hop);
+        if added > 0.0 {
+            out.energy_lost -= added * mc;
+        }
         out.slid = slid;
         self.move_cluster(m, c, v, now, out);
     }

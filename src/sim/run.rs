@@ -58,8 +58,8 @@ impl Clusters for Materials {
     }
 }
 
-impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool> Run
-    for Engine<R, P, W, G>
+impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const F: bool> Run
+    for Engine<R, P, W, G, F>
 {
     fn run_until(
         &mut self,

@@ -329,3 +329,88 @@ fn no_collision_is_ever_missed() {
         sim.stats()
     );
 }
+
+/// Under gravity, brute force after every event: a settling inelastic pile with TC in a vessel
+/// with a sloped floor and a horizontal pillar, and an elastic gas between a floor and a
+/// ceiling with side walls — every pair and every shape (the walls by conservative
+/// advancement along the parabola, no polynomial shared with the predictions).
+#[test]
+fn no_collision_is_ever_missed_under_gravity() {
+    let g = DVec3::new(0.4, -0.2, -9.81);
+    let inside = |p: DVec3| p.length() < 3.3 && p.z > -1.0;
+    let spheres = generate::random_spheres(
+        DVec3::splat(-3.5),
+        DVec3::splat(3.5),
+        &inside,
+        50,
+        0.4,
+        1.0,
+        0,
+        12,
+    )
+    .unwrap();
+    let slope = crate::Plane::new([0.0, 0.0, -2.0], [0.2, 0.1, 1.0]).unwrap();
+    let pillar = crate::Cylinder::new([0.0, -3.0, -1.5], [0.0, 3.0, -1.5], 0.3).unwrap();
+    let w = World {
+        spheres,
+        statics: Statics::new()
+            .with(slope, 0)
+            .with(pillar, 0)
+            .with(crate::Container::new([0.0; 3], 4.0).unwrap(), 0),
+        effects: Effects {
+            response: Response::Inelastic { restitution: 0.6 },
+            tc: 1e-3,
+            gravity: g,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.engine.set_checking();
+    sim.advance_to(3.0).unwrap();
+    let s = *sim.stats();
+    assert!(
+        s.wall_collisions > 10_000 && s.pair_collisions > 1000,
+        "{s:?}"
+    );
+
+    // An elastic gas in a box of six planes.
+    let planes = [
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, 8.0], [0.0, 0.0, -1.0]),
+        ([-3.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        ([3.0, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+        ([0.0, -3.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 3.0, 0.0], [0.0, -1.0, 0.0]),
+    ];
+    let mut statics = Statics::new();
+    for (p, n) in planes {
+        statics = statics.with(crate::Plane::new(p, n).unwrap(), 0);
+    }
+    let inside = |p: DVec3| p.x.abs() < 2.4 && p.y.abs() < 2.4 && p.z > 0.6 && p.z < 7.4;
+    let spheres = generate::random_spheres(
+        DVec3::new(-3.0, -3.0, 0.0),
+        DVec3::new(3.0, 3.0, 8.0),
+        &inside,
+        60,
+        0.5,
+        3.0,
+        0,
+        4,
+    )
+    .unwrap();
+    let w = World {
+        spheres,
+        statics,
+        effects: Effects {
+            gravity: DVec3::new(0.0, 0.0, -1.0),
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.engine.set_checking();
+    sim.advance_to(10.0).unwrap();
+    let s = *sim.stats();
+    assert!(s.wall_collisions > 500 && s.pair_collisions > 500, "{s:?}");
+}

@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::KernelCounts;
 use crate::contact::Body;
+use crate::kernels::falling::earliest_rise;
 use crate::kernels::{SettleSphere, settle_static, sphere_settle_lanes};
 use crate::shape::ShapeKind;
 use crate::statics::{OfKind, StaticShape, Statics, Visitor};
@@ -31,7 +32,54 @@ impl<P> Visitor<P> for Earliest<'_> {
     }
 }
 
+/// The earliest contact of one falling sphere with every shape, kind by kind.
+struct EarliestFalling<'a> {
+    r: DVec3,
+    v: DVec3,
+    h: DVec3,
+    radius: f64,
+    best: (f64, Body),
+    counts: &'a mut KernelCounts,
+}
+
+impl<P> Visitor<P> for EarliestFalling<'_> {
+    #[inline]
+    fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
+        for (k, shape) in shapes.shapes().iter().enumerate() {
+            let p = shape.falling_polynomial(self.r, self.v, self.h, self.radius);
+            let t = earliest_rise(&p);
+            if t < self.best.0 {
+                self.best = (t, Body::new(K::KIND, k as u32));
+            }
+        }
+        self.counts.add(K::KIND, shapes.len() as u64);
+    }
+}
+
 impl Statics<u16> {
+    /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape
+    /// under the uniform acceleration `g`, each kind's polynomial answered by the certified
+    /// root isolation of `kernels::falling`; ties go to the first in tie-break order.
+    pub(crate) fn earliest_falling(
+        &self,
+        r: DVec3,
+        v: DVec3,
+        g: DVec3,
+        radius: f64,
+        counts: &mut KernelCounts,
+    ) -> (f64, Body) {
+        let mut e = EarliestFalling {
+            r,
+            v,
+            h: g * 0.5,
+            radius,
+            best: (f64::INFINITY, Body::new(ShapeKind::Plane, 0)),
+            counts,
+        };
+        self.visit(&mut e);
+        e.best
+    }
+
     /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape,
     /// in f64 (the `Stable` kernels on `f64x4`, one lane used); ties go to the first in
     /// tie-break order.
@@ -94,6 +142,20 @@ impl Statics<u16> {
         let depth = (-gap).max(0.0);
         base.max(2.0 * (2.0 * depth / d).sqrt()).min(1.0)
     }
+}
+
+/// The least normal speed at which a sphere leaves a wall that gravity presses it against
+/// (`γ = −g·n̂ > 0`): enough to come back no sooner than `rest_time` (the TC model's
+/// duration) and to rise at least `2⁻³⁰ (‖r‖ + radius)`, far above the rounding of the gap
+/// there, so that the contact it left and the one it returns to are told apart
+/// (docs/derivations/gravity.md, "Resting contact"). `0` where gravity pulls it away.
+pub(crate) fn hop_speed(g: DVec3, n: DVec3, r: DVec3, radius: f64, rest_time: f64) -> f64 {
+    let gamma = -g.dot(n);
+    if gamma <= 0.0 {
+        return 0.0;
+    }
+    let rise = (r.length() + radius) / (1u64 << 30) as f64;
+    (0.5 * gamma * rest_time).max((2.0 * gamma * rise).sqrt())
 }
 
 /// `κ²` of a concave wall's floor angle where rounding does not matter: `2⁻²⁴` (the sphere

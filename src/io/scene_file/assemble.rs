@@ -99,6 +99,17 @@ impl SceneFile {
                 format!("tc = {:?} must be finite and at least 0", e.tc),
             ));
         }
+        let gravity = DVec3::from_array(e.gravity.unwrap_or([0.0; 3]));
+        if !gravity.is_finite() {
+            return Err(self.item_error(
+                "effects",
+                &[Key("effects"), Key("gravity")],
+                format!(
+                    "gravity = {:?} must be finite",
+                    e.gravity.unwrap_or_default()
+                ),
+            ));
+        }
         let mut pairs = Vec::with_capacity(e.pair.len());
         for (i, p) in e.pair.iter().enumerate() {
             let item = format!("effects.pair {i}");
@@ -133,6 +144,7 @@ impl SceneFile {
             tc: e.tc,
             geometry: e.geometry,
             record_events: e.record_events,
+            gravity,
         })
     }
 

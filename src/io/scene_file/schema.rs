@@ -211,6 +211,10 @@ pub struct EffectsTable {
     /// Whether every collision is recorded.
     #[serde(default)]
     pub record_events: bool,
+    /// A uniform acceleration `[gx, gy, gz]` every sphere feels (default none). Refused with a
+    /// periodic boundary and with sticky responses.
+    #[serde(default)]
+    pub gravity: Option<[f64; 3]>,
     /// `[[effects.pair]]`: per-pair-of-materials overrides.
     #[serde(default)]
     pub pair: Vec<PairTable>,
@@ -225,6 +229,7 @@ impl Default for EffectsTable {
             tc: 0.0,
             geometry: false,
             record_events: false,
+            gravity: None,
             pair: Vec::new(),
         }
     }

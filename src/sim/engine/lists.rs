@@ -70,6 +70,18 @@ pub(crate) fn shell_exit(p: DVec3, v: DVec3, delta: f64) -> f64 {
     t.max(0.0)
 }
 
+/// Under a uniform acceleration `g`, a time before which a sphere `p` from its shell centre,
+/// moving at `v`, cannot leave a shell of half-width `delta`: it moves at most
+/// `‖v‖ t + ‖g‖ t²/2` in time `t`, so the positive root of `‖g‖ t²/2 + ‖v‖ t = delta − ‖p‖`
+/// (in the form without cancellation) is a lower bound on the exact quartic's root. A shell
+/// event that comes early only rebuilds the list sooner (docs/derivations/gravity.md).
+pub(crate) fn shell_exit_falling(p: DVec3, v: DVec3, g: DVec3, delta: f64) -> f64 {
+    let (a, b) = (0.5 * g.length(), v.length());
+    let c = (delta - p.length()).max(0.0);
+    let t = 2.0 * c / (b + (b * b + 4.0 * a * c).sqrt());
+    if t.is_nan() { 0.0 } else { t }
+}
+
 /// A sphere's shell centre and its radius, side by side: a rebuild reads one line per
 /// sphere it looks at.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -195,6 +207,29 @@ mod tests {
     }
 
     /// The exit time puts the sphere on the shell, from anywhere inside it, both ways.
+    #[test]
+    fn a_falling_sphere_is_inside_its_shell_until_the_bound() {
+        let mut rng = Rng::new(5);
+        for _ in 0..10_000 {
+            let delta = 0.1 + rng.unit();
+            let p = rng.direction() * delta * rng.unit();
+            let v = rng.direction() * 10f64.powf(4.0 * rng.unit() - 2.0);
+            let g = rng.direction() * 10f64.powf(4.0 * rng.unit() - 2.0);
+            let t = shell_exit_falling(p, v, g, delta);
+            assert!(t > 0.0 || p.length() >= delta);
+            // Sampled along the way, and at the bound itself: never out.
+            for k in 0..=16 {
+                let s = t * f64::from(k) / 16.0;
+                let at = (p + v * s + g * (0.5 * s * s)).length();
+                assert!(at <= delta * (1.0 + 1e-12), "{p} {v} {g}: {at} vs {delta}");
+            }
+            // Not needlessly early: without gravity it is the straight line's own bound.
+            let straight = shell_exit_falling(p, v, DVec3::ZERO, delta);
+            let expected = (delta - p.length()) / v.length();
+            assert!((straight - expected).abs() <= 1e-12 * expected);
+        }
+    }
+
     #[test]
     fn the_shell_exit_is_on_the_shell() {
         let mut rng = Rng::new(3);

@@ -44,8 +44,13 @@ pub(super) fn merge(
     (out, complete)
 }
 
-impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
-    Engine<R, PERIODIC, WALLS, GEOMETRY>
+impl<
+    R: Responder,
+    const PERIODIC: bool,
+    const WALLS: bool,
+    const GEOMETRY: bool,
+    const GRAVITY: bool,
+> Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
     /// `fresh` holds, new to it at its shell event) and whether there were no others: each
@@ -63,8 +68,14 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         for &e in list {
             let (j, code) = split(e);
             let bj = &self.m.bodies[j as usize];
-            let r0 = (bj.r - bi.r) + self.shift[usize::from(code)] + bj.v * (now - bj.t);
-            let v = bj.v - bi.v;
+            let dt = now - bj.t;
+            let mut r0 = (bj.r - bi.r) + self.shift[usize::from(code)] + bj.v * dt;
+            let mut v = bj.v - bi.v;
+            if GRAVITY {
+                // Both fall alike: their relative motion from now on is a straight line.
+                r0 += self.m.g * (0.5 * dt * dt);
+                v += self.m.g * dt;
+            }
             let d = bi.radius + bj.radius;
             // Only an approaching pair (r0 · v < 0) can meet.
             let mut keep = r0.dot(v) < 0.0;

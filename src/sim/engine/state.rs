@@ -57,8 +57,13 @@ fn bad(what: String) -> SimError {
     SimError::Checkpoint(what)
 }
 
-impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool>
-    Engine<R, PERIODIC, WALLS, GEOMETRY>
+impl<
+    R: Responder,
+    const PERIODIC: bool,
+    const WALLS: bool,
+    const GEOMETRY: bool,
+    const GRAVITY: bool,
+> Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
     /// Writes the whole dynamic state (see `sim::checkpoint`), in internal order.
     pub fn save(&self, e: &mut Encoder) {
@@ -159,7 +164,7 @@ impl<R: Responder, const PERIODIC: bool, const WALLS: bool, const GEOMETRY: bool
         // Where it was and where it is now: both within the shell (found by fuzzing: a
         // sphere at its own time 10¹³⁹ before now left the box and its shell).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
-        let now = b.r + b.v * (self.now - b.t);
+        let now = b.at(self.now, self.m.g).0;
         let away = (b.r - c).length().max((now - c).length());
         if away.is_nan() || away > limit {
             return Err(bad(format!(

@@ -1,0 +1,238 @@
+//! Gravity, checked from the outputs: the event log, the positions and the energies are read
+//! here with this file's own arithmetic (closed forms of a ball in free fall, a barometric
+//! profile), never by asking the engine whether it did right. Bounds:
+//! docs/derivations/gravity.md.
+
+use glam::DVec3;
+use spheresweep::sim::{Boundary, Effects, EventRecord, Response, Simulation, SphereState, World};
+use spheresweep::{Container, Cylinder, Plane, ShapeKind, Statics};
+
+const G: f64 = 9.81;
+
+fn ball(centre: DVec3, velocity: DVec3) -> SphereState {
+    SphereState {
+        centre,
+        velocity,
+        radius: 0.5,
+        mass: 1.0,
+        material: 0,
+    }
+}
+
+fn down() -> DVec3 {
+    DVec3::new(0.0, 0.0, -G)
+}
+
+fn floor() -> Plane {
+    Plane::new([0.0; 3], [0.0, 0.0, 1.0]).unwrap()
+}
+
+/// One ball dropped from `height` (its bottom above the floor) onto the floor `z = 0`.
+fn drop_world(height: f64, response: Response, tc: f64) -> World {
+    World {
+        spheres: vec![ball(DVec3::new(0.3, -0.2, 0.5 + height), DVec3::ZERO)],
+        statics: Statics::new().with(floor(), 0),
+        effects: Effects {
+            response,
+            tc,
+            gravity: down(),
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    }
+}
+
+/// Wall events of the log, in order.
+fn bounces(log: &[EventRecord]) -> Vec<&EventRecord> {
+    log.iter()
+        .filter(|e| e.other.kind == ShapeKind::Plane)
+        .collect()
+}
+
+/// An elastic ball returns to its height at every one of 10⁴ bounces, each bounce at the
+/// closed-form time `t_k = t₀ + 2k·u/g` with `u = √(2 g h)`; the bound on the drift is the
+/// rounding of one flight per bounce, accumulated (docs/derivations/gravity.md, "Free
+/// flight").
+#[test]
+fn an_elastic_ball_bounces_back_to_its_height_ten_thousand_times() {
+    let h = 2.0;
+    let mut sim = Simulation::new(drop_world(h, Response::Elastic, 0.0)).unwrap();
+    let u = (2.0 * G * h).sqrt();
+    let (t0, period) = (u / G, 2.0 * u / G);
+    sim.advance_to(t0 + 10_000.0 * period - period / 2.0)
+        .unwrap();
+    let log = sim.take_events();
+    let b = bounces(&log);
+    assert_eq!(b.len(), 10_000);
+    for (k, e) in b.iter().enumerate() {
+        let expected = t0 + k as f64 * period;
+        // Times: relative error of a few ulps per bounce, growing at most linearly.
+        let bound = 1e-14 * expected * (k as f64 + 1.0).max(1.0);
+        assert!(
+            (e.time - expected).abs() <= bound.max(1e-12),
+            "bounce {k}: {} vs {expected}",
+            e.time
+        );
+        // The height reached is u²/2g: the approach speed stays u.
+        assert!(
+            (e.approach - u).abs() <= 1e-9 * u,
+            "bounce {k}: {}",
+            e.approach
+        );
+    }
+    // Energy from the state: K + U is what it was.
+    let e = sim.kinetic_energy() + sim.potential_energy();
+    let e0 = G * (0.5 + h);
+    assert!((e - e0).abs() <= 1e-9 * e0, "{e} vs {e0}");
+}
+
+/// An inelastic ball's approach speed falls by `e` at each bounce (its height by `e²`) and
+/// the time between bounces is `2u/g` of the speed it left with.
+#[test]
+fn an_inelastic_ball_loses_e_squared_of_its_height_at_each_bounce() {
+    let e = 0.8;
+    let h = 3.0;
+    let mut sim =
+        Simulation::new(drop_world(h, Response::Inelastic { restitution: e }, 0.0)).unwrap();
+    // The bounces accumulate at t = u₀/g (1 + 2e/(1 − e)) ≈ 7.04: stop just before.
+    sim.advance_to(7.0).unwrap();
+    let log = sim.take_events();
+    let b = bounces(&log);
+    assert!(b.len() >= 21, "{} bounces", b.len());
+    let u0 = (2.0 * G * h).sqrt();
+    for (k, w) in b.windows(2).enumerate().take(20) {
+        let (a, c) = (w[0], w[1]);
+        let expected = u0 * e.powi(k as i32);
+        assert!((a.approach - expected).abs() <= 1e-9 * u0, "bounce {k}");
+        assert!(
+            (c.approach - e * a.approach).abs() <= 1e-9 * u0,
+            "bounce {k}"
+        );
+        let flight = 2.0 * e * a.approach / G;
+        assert!(
+            ((c.time - a.time) - flight).abs() <= 1e-9 * flight.max(1e-3),
+            "bounce {k}: {} vs {flight}",
+            c.time - a.time
+        );
+        // The energy each bounce takes is ½(1 − e²)u².
+        let lost = 0.5 * (1.0 - e * e) * a.approach * a.approach;
+        assert!((a.energy_lost - lost).abs() <= 1e-9 * lost.max(1e-9));
+    }
+    // The ball never went through the floor.
+    assert!(sim.spheres()[0].centre.z >= 0.5 * (1.0 - 1e-9));
+}
+
+/// An inelastic ball on a floor would make infinitely many bounces in finite time. With TC it
+/// ends hopping every `tc` or so, its bottom no higher than `g·tc²/8` (times the slack of the
+/// first TC bounce, up to `tc/e` after the one before); without TC it ends hopping at the
+/// least rise that rounding calls for, `2⁻³⁰(‖r‖ + R)` — finitely many events, never a
+/// stall, never through the floor.
+#[test]
+fn a_ball_coming_to_rest_hops_no_higher_than_the_derived_bound() {
+    let e = 0.5;
+    for tc in [0.0, 1e-3] {
+        let world = drop_world(1.0, Response::Inelastic { restitution: e }, tc);
+        let mut sim = Simulation::new(world).unwrap();
+        let mut highest_late: f64 = 0.0;
+        for k in 1..=200 {
+            sim.advance_to(0.05 * f64::from(k)).unwrap();
+            if k > 100 {
+                highest_late = highest_late.max(sim.spheres()[0].centre.z - 0.5);
+            }
+            sim.take_events();
+        }
+        let rounding_rise = (0.5f64.hypot(0.36) + 0.5) / (1u64 << 30) as f64;
+        let bound = (G * (tc / e).powi(2) / 8.0).max(rounding_rise * 1.01);
+        assert!(highest_late <= bound, "tc {tc}: {highest_late} vs {bound}");
+        assert!(sim.spheres()[0].centre.z >= 0.5 * (1.0 - 1e-9));
+        // Every hop raised the ball's speed back: what it added is in the balance.
+        let balance = sim.kinetic_energy() + sim.potential_energy() + sim.stats().energy_lost;
+        let e0 = G * 1.5;
+        assert!(
+            (balance - e0).abs() <= 1e-9 * e0,
+            "tc {tc}: {balance} vs {e0}"
+        );
+    }
+}
+
+/// A ball placed exactly at rest on the floor is not a stall: it hops off.
+#[test]
+fn a_ball_resting_exactly_on_the_floor_does_not_stall() {
+    for (response, tc) in [
+        (Response::Elastic, 0.0),
+        (Response::Inelastic { restitution: 0.5 }, 1e-3),
+    ] {
+        let mut w = drop_world(0.0, response, tc);
+        w.effects.record_events = false;
+        let mut sim = Simulation::new(w).unwrap();
+        sim.advance_to(1.0).unwrap();
+        let z = sim.spheres()[0].centre.z;
+        assert!(
+            (0.5 * (1.0 - 1e-9)..0.5 + 1e-3).contains(&z),
+            "{response:?}: {z}"
+        );
+    }
+}
+
+/// A ball thrown across a sloped floor, a pillar, and a bowl: the brute-force check after
+/// every event inside the engine's own tests covers this; here, from outside, it stays on
+/// its side of everything and K + U + losses is conserved.
+#[test]
+fn a_ball_in_a_bowl_with_a_pillar_stays_inside_and_conserves_energy() {
+    let world = World {
+        spheres: vec![
+            ball(DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.3, 2.0, 1.0)),
+            ball(DVec3::new(-2.0, 1.0, 1.0), DVec3::new(-1.0, 0.0, 0.5)),
+        ],
+        statics: Statics::new()
+            .with(Container::new([0.0; 3], 5.0).unwrap(), 0)
+            .with(
+                Cylinder::new([0.0, 0.0, -2.0], [1.0, 0.0, -2.0], 0.4).unwrap(),
+                0,
+            ),
+        effects: Effects {
+            gravity: DVec3::new(0.3, 0.0, -G),
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    let e0 = sim.kinetic_energy() + sim.potential_energy();
+    for k in 1..=2000 {
+        sim.advance_to(0.05 * f64::from(k)).unwrap();
+        for s in sim.spheres() {
+            assert!(s.centre.length() <= 4.5 * (1.0 + 1e-9), "{}", s.centre);
+            let x = s.centre - DVec3::new(0.0, 0.0, -2.0);
+            let across = (x.y * x.y + x.z * x.z).sqrt();
+            assert!(across >= 0.9 * (1.0 - 1e-9), "{}", s.centre);
+        }
+        let e = sim.kinetic_energy() + sim.potential_energy();
+        assert!(
+            (e - e0).abs() <= 1e-8 * e0.abs().max(1.0),
+            "t = {}: {e} vs {e0}",
+            sim.time()
+        );
+    }
+    let s = sim.stats();
+    assert!(s.wall_collisions > 30 && s.pair_collisions > 0, "{s:?}");
+}
+
+/// Gravity is refused along a periodic axis and with sticky responses, naming the field.
+#[test]
+fn gravity_where_it_cannot_be_is_refused() {
+    let mut w = drop_world(1.0, Response::Elastic, 0.0);
+    w.boundary = Boundary::Periodic {
+        size: DVec3::splat(10.0),
+    };
+    w.statics = Statics::new();
+    let err = Simulation::new(w).unwrap_err().to_string();
+    assert!(err.contains("gravity") && err.contains("periodic"), "{err}");
+    let w = drop_world(1.0, Response::Sticky, 0.0);
+    let err = Simulation::new(w).unwrap_err().to_string();
+    assert!(err.contains("gravity") && err.contains("sticky"), "{err}");
+    let mut w = drop_world(1.0, Response::Elastic, 0.0);
+    w.effects.gravity = DVec3::new(0.0, f64::NAN, 0.0);
+    let err = Simulation::new(w).unwrap_err().to_string();
+    assert!(err.contains("gravity") && err.contains("finite"), "{err}");
+}
