@@ -249,6 +249,36 @@ macro_rules! define_statics {
                 }
             }
 
+            /// When a sphere (centre `r`, velocity `v`, `radius`) falling under the uniform
+            /// acceleration `g` first touches the shape, in f64: the earliest admissible root
+            /// of the kind's polynomial (quadratic for a plane, quartic for a cylinder or a
+            /// container), isolated so that it is never missed
+            /// (docs/derivations/gravity.md); `None` if it never does.
+            ///
+            /// ```
+            /// use glam::DVec3;
+            /// use spheresweep::{Plane, Static};
+            /// let floor = Static::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0])?);
+            /// // Dropped from rest with its bottom 4.905 above the floor: it lands at t = 1.
+            /// let g = DVec3::new(0.0, 0.0, -9.81);
+            /// let t = floor.time_of_impact_falling(DVec3::new(0.0, 0.0, 5.405), DVec3::ZERO, 0.5, g);
+            /// assert!((t.unwrap() - 1.0).abs() < 1e-12);
+            /// # Ok::<(), spheresweep::ShapeError>(())
+            /// ```
+            pub fn time_of_impact_falling(
+                &self,
+                r: DVec3,
+                v: DVec3,
+                radius: f64,
+                g: DVec3,
+            ) -> Option<f64> {
+                let p = match self {
+                    $(Static::$kind(s) => s.falling_polynomial(r, v, g * 0.5, radius),)*
+                };
+                let t = crate::kernels::falling::earliest_rise(&p);
+                t.is_finite().then_some(t)
+            }
+
             /// The unit normal from the shape towards a sphere centred at `r` and the signed
             /// gap between the sphere and the shape (negative when it is through).
             pub fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64) {

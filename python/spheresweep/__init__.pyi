@@ -310,6 +310,7 @@ class Simulation:
         pairs: Optional[Sequence[Tuple[int, int, Union[float, str]]]] = None,
         record_events: bool = False,
         geometry: bool = False,
+        gravity: Optional[_Vector3] = None,
     ) -> "Simulation":
         """Spheres given as float64 arrays among static shapes, open or periodic.
 
@@ -317,7 +318,8 @@ class Simulation:
         "none", "elastic", "inelastic" (``restitution`` required) or "sticky";
         ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
         may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
-        "sticky")`` overrides per pair of materials."""
+        "sticky")`` overrides per pair of materials; ``gravity``: a uniform acceleration
+        (refused with ``periodic_box`` and "sticky")."""
     def advance_to(
         self,
         t: float,
@@ -358,6 +360,10 @@ class Simulation:
     @property
     def masses(self) -> _F64: ...
     def kinetic_energy(self) -> float: ...
+    def potential_energy(self) -> float:
+        """``sum(-m g . r)`` in the uniform gravity (0 without)."""
+    def energy(self) -> Dict[str, float]:
+        """``{"kinetic", "potential", "lost", "total"}``: ``total`` stays what it was."""
     def momentum(self) -> Tuple[float, float, float]: ...
     @property
     def stats(self) -> Dict[str, Union[int, float]]:

@@ -264,7 +264,8 @@ impl Simulation {
     /// may be given as a `(shape, material)` tuple; `pairs` lists `(a, b, response)`
     /// overrides for pairs of materials, `response` a restitution or `"elastic"` /
     /// `"sticky"`. `record_events` keeps each collision for `take_events`, with its contact
-    /// point and normal if `geometry`.
+    /// point and normal if `geometry`. `gravity` (three floats) is a uniform acceleration
+    /// every sphere feels (refused with `periodic_box` and with `"sticky"`).
     ///
     /// `ValueError` for invalid spheres, shapes, materials or pairs, overlaps at the start, a
     /// sphere through a shape, or a box too small (the message names the item); `TypeError`
@@ -274,8 +275,8 @@ impl Simulation {
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
         cylinders = None, containers = None, periodic_box = None, restitution = None,
         response = None, tc = None, materials = None, pairs = None, record_events = None,
-        geometry = None),
-        text_signature = "(centres, velocities, radii, masses=None, *, planes=None, cylinders=None, containers=None, periodic_box=None, restitution=None, response=None, tc=0.0, materials=None, pairs=None, record_events=False, geometry=False)")]
+        geometry = None, gravity = None),
+        text_signature = "(centres, velocities, radii, masses=None, *, planes=None, cylinders=None, containers=None, periodic_box=None, restitution=None, response=None, tc=0.0, materials=None, pairs=None, record_events=False, geometry=False, gravity=None)")]
     fn from_spheres<'py>(
         py: Python<'py>,
         centres: &Bound<'py, PyAny>,
@@ -293,6 +294,7 @@ impl Simulation {
         pairs: Option<&Bound<'py, PyAny>>,
         record_events: Option<&Bound<'py, PyAny>>,
         geometry: Option<&Bound<'py, PyAny>>,
+        gravity: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Self> {
         let mut world = spheres_world(centres, velocities, radii, masses, materials)?;
         let kwargs = PyDict::new(py);
@@ -342,6 +344,11 @@ impl Simulation {
             kwargs.set_item(name, optional(value))?;
         }
         kwargs.set_item("tc", tc)?;
+        if let Some(g) = optional(gravity) {
+            let g = crate::arrays::vector3::<f64>(g, "gravity")?;
+            world.effects.gravity = DVec3::from_array(g);
+            kwargs.set_item("gravity", g.to_vec())?;
+        }
         kwargs.set_item("record_events", world.effects.record_events)?;
         kwargs.set_item("geometry", world.effects.geometry)?;
         let materials: Vec<u16> = world.spheres.iter().map(|s| s.material).collect();
@@ -476,6 +483,30 @@ impl Simulation {
     /// Total kinetic energy `sum(m v^2 / 2)`.
     fn kinetic_energy(&self, py: Python<'_>) -> f64 {
         self.lock(py).kinetic_energy()
+    }
+
+    /// Total potential energy in the uniform gravity `g`, `sum(-m g . r)` (0 without gravity).
+    fn potential_energy(&self, py: Python<'_>) -> f64 {
+        self.lock(py).potential_energy()
+    }
+
+    /// The energy balance now, a dict: `kinetic`, `potential`, `lost` (what collisions took,
+    /// less what rest hops gave) and `total`, their sum, which stays what it was at the start.
+    fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (k, u, lost) = {
+            let sim = self.lock(py);
+            (
+                sim.kinetic_energy(),
+                sim.potential_energy(),
+                sim.stats().energy_lost,
+            )
+        };
+        let d = PyDict::new(py);
+        d.set_item("kinetic", k)?;
+        d.set_item("potential", u)?;
+        d.set_item("lost", lost)?;
+        d.set_item("total", k + u + lost)?;
+        Ok(d)
     }
 
     /// Total momentum `sum(m v)`, a tuple of three floats.

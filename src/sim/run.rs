@@ -136,9 +136,10 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
     }
     fn name(&self) -> String {
         format!(
-            "{}{}{}{}",
+            "{}{}{}{}{}",
             R::NAME,
             if P { ", periodic" } else { ", open" },
+            if F { ", gravity" } else { "" },
             if W { ", static shapes" } else { "" },
             if G { ", contact geometry" } else { "" }
         )

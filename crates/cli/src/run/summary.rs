@@ -22,6 +22,9 @@ pub struct About {
     pub walls: usize,
     pub elastic: bool,
     pub equal_radii: bool,
+    /// The gravity and the potential energy `Σ −m g·r` at t = 0 (zero without gravity).
+    pub gravity: DVec3,
+    pub potential_start: f64,
 }
 
 impl About {
@@ -50,8 +53,24 @@ impl About {
             walls: world.statics.len(),
             elastic: world.effects.response == Response::Elastic && world.effects.pairs.is_empty(),
             equal_radii: world.spheres.windows(2).all(|w| w[0].radius == w[1].radius),
+            gravity: world.effects.gravity,
+            potential_start: world
+                .spheres
+                .iter()
+                .map(|s| -s.mass * world.effects.gravity.dot(s.centre))
+                .sum(),
         }
     }
+}
+
+/// `(K₀ + U₀ − K₁ − U₁ − lost)` relative to `K₀` (to the same bits as before gravity when
+/// `U` is zero), or under gravity to the largest energy moved.
+fn balance(k0: f64, k1: f64, u0: f64, u1: f64, lost: f64) -> f64 {
+    if u0 == 0.0 && u1 == 0.0 {
+        return relative(k0 - k1 - lost, k0);
+    }
+    let scale = k0.max(k1).max((u1 - u0).abs()).max(lost.abs());
+    relative(k0 + u0 - k1 - u1 - lost, scale)
 }
 
 fn relative(change: f64, scale: f64) -> f64 {
@@ -77,9 +96,13 @@ pub struct Summary {
     collisions: Collisions,
     /// Kinetic energy at the start and the end.
     kinetic_energy: Energy,
-    /// Kinetic energy taken by inelastic and sticky collisions.
+    /// Potential energy `Σ −m g·r` at the start and the end (all zero without gravity).
+    potential_energy: Energy,
+    /// Kinetic energy taken by inelastic and sticky collisions (less what rest hops gave
+    /// under gravity).
     energy_lost: f64,
-    /// (start − end − lost) / start of the kinetic energy.
+    /// (start − end − lost) of `K + U`, over the start's kinetic energy (under gravity: over
+    /// the largest of the energies moved, `K` at either end, `|ΔU|` and the loss).
     energy_balance: f64,
     /// Total momentum at the start and the end.
     momentum: Momentum,
@@ -223,8 +246,22 @@ impl Summary {
                 end: ke1,
                 relative_drift: relative(ke1 - c.ke0, c.ke0),
             },
+            potential_energy: Energy {
+                start: about.potential_start,
+                end: sim.potential_energy(),
+                relative_drift: relative(
+                    sim.potential_energy() - about.potential_start,
+                    about.potential_start.abs(),
+                ),
+            },
             energy_lost: stats.energy_lost,
-            energy_balance: relative(c.ke0 - ke1 - stats.energy_lost, c.ke0),
+            energy_balance: balance(
+                c.ke0,
+                ke1,
+                about.potential_start,
+                sim.potential_energy(),
+                stats.energy_lost,
+            ),
             momentum: Momentum {
                 start: v3(c.p0),
                 end: v3(sim.momentum()),
@@ -340,11 +377,21 @@ impl Summary {
             "kinetic      {:.9e} → {:.9e} (relative drift {:+.3e})",
             e.start, e.end, e.relative_drift
         )?;
-        writeln!(
-            out,
-            "energy lost  {:.6e} (balance start − end − lost: {:+.3e} of the start)",
-            self.energy_lost, self.energy_balance
-        )?;
+        if about.gravity != DVec3::ZERO {
+            let u = &self.potential_energy;
+            writeln!(out, "potential    {:.9e} → {:.9e}", u.start, u.end)?;
+            writeln!(
+                out,
+                "energy lost  {:.6e} (balance of K + U, start − end − lost: {:+.3e} of the energy moved)",
+                self.energy_lost, self.energy_balance
+            )?;
+        } else {
+            writeln!(
+                out,
+                "energy lost  {:.6e} (balance start − end − lost: {:+.3e} of the start)",
+                self.energy_lost, self.energy_balance
+            )?;
+        }
         writeln!(
             out,
             "momentum     drift |ΔP| = {:.3e} ({:.3e} of Σ m|v|){}",
@@ -456,6 +503,11 @@ mod tests {
             kinetic_energy: Energy {
                 start: 1.0,
                 end: 1.0,
+                relative_drift: 0.0,
+            },
+            potential_energy: Energy {
+                start: 0.0,
+                end: 0.0,
                 relative_drift: 0.0,
             },
             energy_lost: 0.0,

@@ -1,0 +1,53 @@
+"""Gravity seen from Python: a ball's bounces and a settling pile, read back with numpy alone
+(closed forms of free fall, the positions against the walls), and the energy balance."""
+
+import numpy as np
+import pytest
+
+import spheresweep as ss
+
+G = 9.81
+
+
+def test_a_dropped_ball_follows_free_fall_and_bounces_back_to_its_height():
+    h = 2.0
+    sim = ss.Simulation.from_spheres([[0, 0, 0.5 + h]], [[0, 0, 0]], [0.5],
+                                     planes=[ss.Plane([0, 0, 0], [0, 0, 1])],
+                                     gravity=[0, 0, -G])
+    t_hit = np.sqrt(2 * h / G)
+    for t in np.linspace(0.0, 0.9 * t_hit, 10)[1:]:
+        sim.advance_to(float(t))
+        z = sim.positions[0, 2]
+        assert abs(z - (0.5 + h - 0.5 * G * t * t)) < 1e-12
+    # One full bounce later it is back at the top, at rest.
+    sim.advance_to(3 * t_hit)
+    assert abs(sim.positions[0, 2] - (0.5 + h)) < 1e-9
+    assert abs(sim.velocities[0, 2]) < 1e-9
+    e = sim.energy()
+    assert abs(e["total"] - G * (0.5 + h)) < 1e-9
+    assert e["potential"] == pytest.approx(G * (0.5 + h))
+
+
+def test_a_settling_pile_in_a_bowl_comes_to_rest_inside_it():
+    rng = np.random.default_rng(3)
+    g = np.arange(-2, 2) * 1.2 + 0.6
+    sites = np.stack(np.meshgrid(g, g, g), -1).reshape(-1, 3)[:40]
+    sim = ss.Simulation.from_spheres(sites, rng.normal(size=(40, 3)), np.full(40, 0.5),
+                                     containers=[ss.Container([0, 0, 0], 5.0)],
+                                     restitution=0.5, tc=1e-3, gravity=[0, 0, -G])
+    e0 = sim.energy()
+    for t in np.arange(1, 41) * 0.25:
+        sim.advance_to(float(t))
+        reach = np.linalg.norm(sim.positions, axis=1) + sim.radii
+        assert np.max(reach) <= 5.0 * (1 + 2.0**-16)
+    e = sim.energy()
+    # At rest: what is left moving is a small fraction of the energy the pile had to lose.
+    dropped = e0["kinetic"] + e0["potential"] - e["potential"]
+    assert e["kinetic"] < 1e-3 * dropped, (e, e0)
+    assert abs(e["total"] - e0["total"]) < 1e-9 * abs(e0["total"]) + 1e-9
+
+
+def test_gravity_is_refused_with_a_periodic_box():
+    with pytest.raises(ValueError, match="periodic"):
+        ss.Simulation.from_spheres([[1, 1, 1]], [[0, 0, 0]], [0.5], periodic_box=[5, 5, 5],
+                                   gravity=[0, 0, -1])
