@@ -236,3 +236,186 @@ fn gravity_where_it_cannot_be_is_refused() {
     let err = Simulation::new(w).unwrap_err().to_string();
     assert!(err.contains("gravity") && err.contains("finite"), "{err}");
 }
+
+/// A box of six planes (floor `z = 0`, ceiling `z = H`, side walls).
+fn closed_box(half: f64, height: f64) -> Statics<u16> {
+    let (h, z) = (half as f32, height as f32);
+    let planes = [
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, z], [0.0, 0.0, -1.0]),
+        ([-h, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        ([h, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+        ([0.0, -h, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, h, 0.0], [0.0, -1.0, 0.0]),
+    ];
+    let mut s = Statics::new();
+    for (p, n) in planes {
+        s = s.with(Plane::new(p, n).unwrap(), 0);
+    }
+    s
+}
+
+/// This file's own Carnahan–Starling `Z(φ)` and `d(φZ)/dφ`.
+fn cs(phi: f64) -> (f64, f64) {
+    let z = (1.0 + phi + phi * phi - phi.powi(3)) / (1.0 - phi).powi(3);
+    let h = 1e-7 * phi.max(1e-9);
+    let pz = |p: f64| p * (1.0 + p + p * p - p.powi(3)) / (1.0 - p).powi(3);
+    (z, (pz(phi + h) - pz(phi - h)) / (2.0 * h))
+}
+
+/// Hydrostatic equilibrium with the hard-sphere equation of state: `dp/dz = −ρ m g` with
+/// `p = ρ kT Z(φ)`, so `dφ/dz = −(m g / kT) φ / (d(φZ)/dφ)`; the profile of centres over
+/// `[lo, hi]` holding `n` spheres over the area `area`, as the fraction in each of `bins`.
+fn hydrostatic_fractions(
+    n: f64,
+    area: f64,
+    lo: f64,
+    hi: f64,
+    r: f64,
+    mg_kt: f64,
+    bins: usize,
+) -> Vec<f64> {
+    let v = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let steps = 20_000;
+    let dz = (hi - lo) / steps as f64;
+    let profile = |phi0: f64| {
+        let mut phi = phi0;
+        let mut out = Vec::with_capacity(steps);
+        for _ in 0..steps {
+            out.push(phi);
+            // Midpoint rule.
+            let f = |p: f64| -mg_kt * p / cs(p).1;
+            let mid = phi + 0.5 * dz * f(phi);
+            phi += dz * f(mid);
+        }
+        out
+    };
+    let count = |phi0: f64| profile(phi0).iter().sum::<f64>() * dz * area / v;
+    let (mut a, mut b) = (1e-12, 0.6);
+    for _ in 0..100 {
+        let m = 0.5 * (a + b);
+        if count(m) < n { a = m } else { b = m }
+    }
+    let p = profile(0.5 * (a + b));
+    let total: f64 = p.iter().sum();
+    let per = steps / bins;
+    (0..bins)
+        .map(|k| p[k * per..(k + 1) * per].iter().sum::<f64>() / total)
+        .collect()
+}
+
+/// An elastic gas between a floor and a ceiling: `K + U` is conserved over 10⁶ collisions
+/// within the derived bound, and the time-averaged profile of the centres matches hydrostatic
+/// equilibrium with the hard-sphere equation of state (this file's own integration of
+/// Carnahan–Starling, at the temperature the run's own kinetic energy gives) within 4σ of
+/// the batch means, away from the layers a diameter from the floor and ceiling. The same
+/// comparison rejects the profile of a gravity 10 % off, so it can fail.
+#[test]
+fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_equilibrium() {
+    let (half, height, r, n) = (5.0, 8.0, 0.2, 400);
+    let inside =
+        |p: DVec3| p.x.abs() < half - r && p.y.abs() < half - r && p.z > r && p.z < height - r;
+    let mut spheres = spheresweep::sim::generate::random_spheres(
+        DVec3::new(-half, -half, 0.0),
+        DVec3::new(half, half, height),
+        &inside,
+        n,
+        r,
+        1.0,
+        0,
+        21,
+    )
+    .unwrap();
+    spheresweep::sim::generate::thermal_velocities(&mut spheres, 1.0, 5);
+    let g = 1.0;
+    let world = World {
+        spheres,
+        statics: closed_box(half, height),
+        effects: Effects {
+            gravity: DVec3::new(0.0, 0.0, -g),
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    let e0 = sim.kinetic_energy() + sim.potential_energy();
+    sim.advance_to(200.0).unwrap();
+    let (bins, batches, per_batch) = (16usize, 20usize, 100usize);
+    let (lo, hi) = (r, height - r);
+    let mut fractions = vec![vec![0.0; bins]; batches];
+    let mut kinetic = 0.0;
+    let mut t = 200.0;
+    for batch in fractions.iter_mut() {
+        for _ in 0..per_batch {
+            t += 1.0;
+            sim.advance_to(t).unwrap();
+            for s in sim.spheres() {
+                let k = (((s.centre.z - lo) / (hi - lo)) * bins as f64) as usize;
+                batch[k.min(bins - 1)] += 1.0 / (n * per_batch) as f64;
+            }
+            kinetic += sim.kinetic_energy();
+        }
+    }
+    let stats = *sim.stats();
+    let collisions = stats.pair_collisions + stats.wall_collisions;
+    assert!(
+        collisions >= 1_000_000 && stats.pair_collisions > 100_000,
+        "{stats:?}"
+    );
+    // K + U: each event rounds one or two spheres' coordinates and velocities by a few u; over
+    // N events at most 8u N of the energies moved (K plus the potential over the box's height).
+    let e = sim.kinetic_energy() + sim.potential_energy();
+    let scale = e0.abs() + n as f64 * g * height;
+    let bound = 8.0 * f64::EPSILON / 2.0 * collisions as f64 * scale;
+    assert!(
+        (e - e0).abs() <= bound,
+        "K + U drifted {:e} (bound {bound:e})",
+        e - e0
+    );
+    // Temperature from equipartition, then the profile.
+    let kt = 2.0 / 3.0 * kinetic / (batches * per_batch) as f64 / n as f64;
+    let area = (2.0 * (half - r)).powi(2);
+    let z_scores = |mg_kt: f64| {
+        let predicted = hydrostatic_fractions(n as f64, area, lo, hi, r, mg_kt, bins);
+        // Bins two diameters clear of the floor and the ceiling (wall layering is not in a
+        // bulk equation of state), both sides renormalised to them.
+        let keep: Vec<usize> = (0..bins)
+            .filter(|&k| {
+                let (a, b) = (
+                    lo + (hi - lo) * k as f64 / bins as f64,
+                    lo + (hi - lo) * (k + 1) as f64 / bins as f64,
+                );
+                a >= 4.0 * r && b <= height - 4.0 * r
+            })
+            .collect();
+        let norm_p: f64 = keep.iter().map(|&k| predicted[k]).sum();
+        let mut worst: f64 = 0.0;
+        for &k in &keep {
+            let obs: Vec<f64> = fractions
+                .iter()
+                .map(|b| b[k] / keep.iter().map(|&j| b[j]).sum::<f64>())
+                .collect();
+            let mean = obs.iter().sum::<f64>() / batches as f64;
+            let var = obs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (batches - 1) as f64;
+            let sigma = (var / batches as f64).sqrt();
+            worst = worst.max((mean - predicted[k] / norm_p).abs() / sigma);
+        }
+        worst
+    };
+    let right = z_scores(g / kt);
+    println!(
+        "{collisions} collisions; K + U drift {:.3e} (bound {bound:.3e}); kT {kt:.4}; worst bin \
+         {right:.2}σ; 10 % off: {:.1}σ",
+        e - e0,
+        z_scores(1.1 * g / kt)
+    );
+    assert!(
+        right <= 4.0,
+        "the profile is {right:.1}σ from hydrostatic equilibrium (kT = {kt})"
+    );
+    let wrong = z_scores(1.1 * g / kt);
+    assert!(
+        wrong > 4.0,
+        "a gravity 10 % off is not rejected ({wrong:.1}σ): the test has no power"
+    );
+}

@@ -9,7 +9,7 @@
 //! one is refused (the checksum, then every index and length, are checked).
 
 use super::model::SimError;
-use super::{Effects, Simulation, World};
+use super::{Simulation, World};
 
 /// Format version; bump when the layout changes.
 pub(crate) const VERSION: u32 = 3;
@@ -237,16 +237,62 @@ pub(super) fn world_fingerprint(w: &World) -> u64 {
         .iter()
         .map(|s| (s.radius.to_bits(), s.mass.to_bits(), s.material))
         .collect();
+    // Gravity joins the text only when there is some, so that a world without it keeps the
+    // fingerprint it had before gravity existed (and its checkpoints stay readable).
+    let gravity = w.effects.gravity;
+    let gravity = if gravity == glam::DVec3::ZERO {
+        String::new()
+    } else {
+        format!("gravity {gravity:?}")
+    };
+    let effects = effects_text(&w.effects);
     fingerprint(&format!(
-        "{:?}{:?}{:?}{:?}{:?}",
-        per_sphere,
-        w.statics,
-        w.boundary,
-        w.materials,
-        Effects {
-            record_events: false,
-            geometry: false,
-            ..w.effects.clone()
-        }
+        "{:?}{:?}{:?}{:?}{effects}{gravity}",
+        per_sphere, w.statics, w.boundary, w.materials,
     ))
+}
+
+/// The effects that change the dynamics, as `Effects`' derived `Debug` wrote them before it
+/// had `gravity` (with nothing recorded).
+fn effects_text(fx: &super::Effects) -> String {
+    format!(
+        "Effects {{ response: {:?}, pairs: {:?}, tc: {:?}, geometry: false, record_events: false }}",
+        fx.response, fx.pairs, fx.tc
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    /// The effects' text is what the derived `Debug` of `Effects` wrote before `gravity`
+    /// existed, so that worlds without gravity keep their fingerprints.
+    #[test]
+    fn the_fingerprint_text_of_effects_is_the_one_before_gravity() {
+        #[derive(Debug)]
+        #[allow(dead_code)]
+        struct Effects {
+            response: super::super::Response,
+            pairs: Vec<super::super::MaterialPair>,
+            tc: f64,
+            geometry: bool,
+            record_events: bool,
+        }
+        let fx = super::super::Effects {
+            response: super::super::Response::Inelastic { restitution: 0.5 },
+            pairs: vec![super::super::MaterialPair {
+                a: 0,
+                b: 1,
+                response: super::super::Response::Sticky,
+            }],
+            tc: 1e-3,
+            ..Default::default()
+        };
+        let before = Effects {
+            response: fx.response,
+            pairs: fx.pairs.clone(),
+            tc: fx.tc,
+            geometry: false,
+            record_events: false,
+        };
+        assert_eq!(super::effects_text(&fx), format!("{before:?}"));
+    }
 }
