@@ -65,5 +65,43 @@ fn unused_effects(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, gas, unused_effects);
+/// Gravity's cost: one falling contact per shape kind (the certified root isolation of
+/// docs/derivations/gravity.md) over 1024 spheres at random inside a vessel, around a pillar
+/// and over a floor; and an elastic gas in a closed box with and without gravity, per event.
+fn gravity(c: &mut Criterion) {
+    use glam::DVec3;
+    let mut g = c.benchmark_group("gravity_contact_per_1024");
+    g.throughput(Throughput::Elements(1024));
+    g.sample_size(20);
+    g.warm_up_time(Duration::from_millis(300));
+    g.measurement_time(Duration::from_secs(2));
+    for (name, shape, cases) in sim::falling_cases(1024, 9) {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                cases
+                    .iter()
+                    .map(|&(r, v, gr)| shape.time_of_impact_falling(r, v, 0.5, gr).unwrap_or(0.0))
+                    .sum::<f64>()
+            })
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("gravity_box_gas_per_20k_events");
+    g.throughput(Throughput::Elements(20_000));
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_millis(500));
+    g.measurement_time(Duration::from_secs(3));
+    for (name, gravity) in [
+        ("without", DVec3::ZERO),
+        ("with", DVec3::new(0.0, 0.0, -1.0)),
+    ] {
+        let world = sim::box_gas(400, gravity, 21);
+        g.bench_function(name, |b| {
+            b.iter_custom(|iters| sim::time_events(&world, 20_000 * iters))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, gas, unused_effects, gravity);
 criterion_main!(benches);

@@ -1,10 +1,10 @@
-//! A granular jet: nine streams of grains fired straight down at a floor, with four steel
-//! pillars around the point of impact, every collision inelastic, simulated event by event
-//! with [`sim::Simulation`]. The same scene as `scenes/granular_jet.toml`, built in code.
+//! A granular jet: nine streams of grains fired straight down at a floor under gravity, with
+//! four steel pillars around the point of impact, every collision inelastic, simulated event by
+//! event with [`sim::Simulation`]. The same scene as `scenes/granular_jet.toml`, built in code.
 //!
 //! ```sh
-//! cargo run --release --example granular_jet            # 9 × 400 grains for 60 s (as the scene file)
-//! cargo run --example granular_jet -- --small           # 9 × 40 grains for 9 s (CI)
+//! cargo run --release --example granular_jet            # 9 × 400 grains for 10 s (as the scene file)
+//! cargo run --example granular_jet -- --small           # 9 × 40 grains for 4 s (CI)
 //! cargo run --example granular_jet -- --out DIR         # where granular_jet.svg goes
 //! ```
 //!
@@ -12,8 +12,8 @@
 //! speed 5, tilted at random by up to 0.05 rad), a [`Plane`] for the floor and four vertical
 //! [`Cylinder`]s, three materials, and the effects: restitution 0.8 between grains, 0.6 against
 //! the floor and 0.9 against the pillars, with the TC model (`tc = 10⁻³`) so that a dense pile
-//! cannot collapse inelastically. There is no gravity: grains bounce off the floor, fly back up
-//! through the incoming jet and splash sideways into the pillars. Events are recorded with
+//! cannot collapse inelastically, and gravity `g = −9.81 ẑ`: grains bounce off the floor, splash
+//! sideways into the pillars and fall back into a heap that settles. Events are recorded with
 //! their contact geometry.
 //!
 //! It prints collisions by kind, the energy the collisions took and collisions per second of
@@ -22,15 +22,19 @@
 //!
 //! What it checks (exit code 1 with the reason on failure):
 //!
-//! - **energy**: the initial kinetic energy minus the final one equals the energy the engine
-//!   says its collisions took (`Stats::energy_lost`), within a rounding bound derived below;
+//! - **energy**: the initial kinetic plus potential energy (`Σ m g z`) minus the final one
+//!   equals the energy the engine says its collisions took (`Stats::energy_lost`), within a
+//!   rounding bound derived below;
 //! - **momentum**: grain–grain collisions conserve it, so the total momentum changes by exactly
-//!   the sum of the wall impulses `m (1 + e) u n̂` of the recorded floor and pillar events,
-//!   within a rounding bound derived below;
+//!   gravity's `M g t` plus the wall impulses `m (u + w) n̂` of the recorded floor and pillar
+//!   events (`u` the approach speed, `w` the speed it left with, from the energy the event took:
+//!   `½ m (u² − w²)`), within a rounding bound derived below;
 //! - **no grain passes through the floor or a pillar**: every grain's path, rebuilt piece by
-//!   piece from its positions at each frame and at each of its recorded collisions (straight
-//!   lines in between: nothing accelerates a grain between collisions), keeps its surface
-//!   outside the floor and every pillar, to the engine's overlap tolerance.
+//!   piece from its positions at each frame and at each of its recorded collisions, keeps its
+//!   surface outside the floor and every pillar, to the engine's overlap tolerance. Between
+//!   two points the path is a parabola that lies above the straight chord (gravity is
+//!   downwards) and whose horizontal part is the chord's (the pillars are vertical), so the
+//!   chord is checked: it goes at least as deep as the path.
 
 mod common;
 
@@ -46,6 +50,8 @@ use spheresweep::sim::{
 use spheresweep::{Cylinder, Plane, ShapeKind, Statics};
 
 const GRAIN_RADIUS: f64 = 0.25;
+/// Gravity, down the z axis.
+const GRAVITY: DVec3 = DVec3::new(0.0, 0.0, -9.81);
 const SPACING: f64 = 0.6;
 const SPEED: f64 = 5.0;
 /// The nozzles' height above the floor (the floor is the plane z = 0).
@@ -69,7 +75,7 @@ fn main() {
 
 fn run() -> Result<(), String> {
     let args = Args::parse("granular_jet")?;
-    let (per_nozzle, t_end) = if args.small { (40, 9.0) } else { (400, 60.0) };
+    let (per_nozzle, t_end) = if args.small { (40, 4.0) } else { (400, 10.0) };
     let world = jet_world(per_nozzle)?;
     let n = world.spheres.len();
     let masses: Vec<f64> = world.spheres.iter().map(|s| s.mass).collect();
@@ -77,7 +83,11 @@ fn run() -> Result<(), String> {
 
     let mut sim = Simulation::new(world).map_err(|e| e.to_string())?;
     println!("{n} grains in 9 streams, engine: {}", sim.engine_name());
-    let (e0, p0) = (sim.kinetic_energy(), sim.momentum());
+    let (e0, p0) = (
+        sim.kinetic_energy() + sim.potential_energy(),
+        sim.momentum(),
+    );
+    let total_mass: f64 = masses.iter().sum();
 
     // Eight grains whose paths are drawn: the first, middle and last of a few streams.
     let tracked: Vec<usize> = [
@@ -137,7 +147,11 @@ fn run() -> Result<(), String> {
                             e.time, e.approach
                         )
                     })?;
-                    wall_impulse += normal * (masses[a] * (1.0 + e.restitution) * e.approach);
+                    // The speed it left with, from the energy the event took (a rest hop
+                    // gives some back: `energy_lost` is then below ½ m u² (1 − e²)).
+                    let (m, u) = (masses[a], e.approach);
+                    let w = (u * u - 2.0 * e.energy_lost / m).max(0.0).sqrt();
+                    wall_impulse += normal * (m * (u + w));
                 }
             }
         }
@@ -154,7 +168,11 @@ fn run() -> Result<(), String> {
     }
     let seconds = clock.elapsed().as_secs_f64();
     let stats = *sim.stats();
-    let (e1, p1) = (sim.kinetic_energy(), sim.momentum());
+    let (e1, p1) = (
+        sim.kinetic_energy() + sim.potential_energy(),
+        sim.momentum(),
+    );
+    let gravity_impulse = GRAVITY * (total_mass * sim.time());
 
     // --- The summary. ---------------------------------------------------------------------
     let collisions = stats.pair_collisions + stats.wall_collisions;
@@ -168,8 +186,8 @@ fn run() -> Result<(), String> {
         100.0 * stats.energy_lost / e0
     );
     println!(
-        "momentum: {:.3} → {:.3}; the floor and pillars gave {:.3}",
-        p0, p1, wall_impulse
+        "momentum: {:.3} → {:.3}; the floor and pillars gave {:.3}, gravity {:.3}",
+        p0, p1, wall_impulse, gravity_impulse
     );
     println!(
         "kernels run: {} sphere lanes, {} plane, {} cylinder; deepest overlap at a collision {:.1e} of the contact distance",
@@ -189,15 +207,16 @@ fn run() -> Result<(), String> {
         || "the jet should hit the floor, the pillars and itself".into(),
     )?;
 
-    // --- Energy: e0 − e1 = energy_lost. -------------------------------------------------------
-    // Each collision updates one or two velocities v' = v + Δv in f64; each component of v'
-    // and of Δv = n̂ (1 + e) u / m is rounded a few times (n̂ is unit to a few u), so each
-    // update changes ½ m |v|² by its exact amount within 8 u m |v'| (|v'| + |Δv|) ≤ 32 u E₀ (no
-    // grain ever holds more than the total energy E₀: collisions only take energy, and the
-    // grazing guard adds at most 2⁻⁴⁰ of a pair's energy, only in guarded collisions). The sums
-    // of ½ m v² over n grains add n u E₀. u = 2⁻⁵³.
+    // --- Energy: e0 − e1 = energy_lost (E = K + U, U = Σ m g z ≥ 0 above the floor). ----------
+    // Each collision updates one or two velocities v' = v + Δv in f64, and each shell event
+    // moves a grain along its parabola; each component of v', of Δv = n̂ (1 + e) u / m and of the
+    // moved centre is rounded a few times (n̂ is unit to a few u), so each update changes
+    // ½ m |v|² + m g z by its exact amount within 32 u E₀ (no grain ever holds more than the
+    // total energy E₀: collisions only take energy but for rest hops, which the balance counts,
+    // and the grazing guard adds at most 2⁻⁴⁰ of a pair's energy, only in guarded collisions).
+    // The sums over n grains add n u E₀. u = 2⁻⁵³.
     let u = f64::EPSILON / 2.0;
-    let updates = (2 * stats.pair_collisions + stats.wall_collisions) as f64;
+    let updates = (2 * stats.pair_collisions + stats.wall_collisions + stats.crossings) as f64;
     let energy_bound =
         u * e0 * (32.0 * updates + 2.0 * n as f64) + stats.guarded as f64 * e0 / 2f64.powi(40);
     let energy_gap = (e0 - e1 - stats.energy_lost).abs();
@@ -213,16 +232,19 @@ fn run() -> Result<(), String> {
         "inelastic collisions took no energy".into()
     })?;
 
-    // --- Momentum: p1 − p0 = Σ wall impulses. --------------------------------------------------
+    // --- Momentum: p1 − p0 = M g t + Σ wall impulses. ---------------------------------------
     // Each velocity update moves m v by its exact impulse within 8 u m (|v'| + |Δv|) ≤
     // 24 u √(2 m E₀) per component (|v| ≤ √(2 E₀/m)); the wall impulses summed here add as much
-    // again, and the sums over n grains n u √(2 m E₀).
+    // again (their `w` from a difference of squares: within 4 u u²/w of it, and w ≥ e u), and
+    // the sums over n grains n u √(2 m E₀).
     let m_max = masses.iter().copied().fold(0.0, f64::max);
     let scale = (2.0 * m_max * e0).sqrt();
     let momentum_bound = u * scale * (48.0 * updates + 2.0 * n as f64);
-    let momentum_gap = (p1 - p0 - wall_impulse).abs().max_element();
+    let momentum_gap = (p1 - p0 - wall_impulse - gravity_impulse)
+        .abs()
+        .max_element();
     println!(
-        "momentum balance: |P1 − P0 − Σ wall impulses| = {momentum_gap:.2e} (bound {momentum_bound:.2e})"
+        "momentum balance: |P1 − P0 − M g t − Σ wall impulses| = {momentum_gap:.2e} (bound {momentum_bound:.2e})"
     );
     check(momentum_gap <= momentum_bound, || {
         format!(
@@ -276,7 +298,7 @@ fn jet_world(per_nozzle: usize) -> Result<World, String> {
             tc: 1e-3,
             geometry: true,
             record_events: true,
-            gravity: DVec3::ZERO,
+            gravity: GRAVITY,
         },
         ..World::default()
     };

@@ -8,6 +8,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
+use glam::DVec3;
 use spheresweep::sim::{Effects, MaterialPair, Response, Simulation, Stats, World, generate};
 
 /// The peer's gas: `n` spheres of diameter 1 on an FCC lattice at packing fraction `phi`.
@@ -191,4 +192,130 @@ pub fn peak_resident_bytes() -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
+}
+
+/// Random falling spheres (centre, velocity, gravity) against one shape of each kind, for the
+/// cost of a contact under gravity: inside a vessel of radius 5, around a horizontal pillar of
+/// radius 0.7, over a floor; speeds 10⁻²–10², gravity 10⁻¹–10¹ in random directions.
+///
+/// ```
+/// let cases = spheresweep_bench::sim::falling_cases(16, 1);
+/// assert_eq!(cases.len(), 3);
+/// for (_, shape, spheres) in &cases {
+///     assert_eq!(spheres.len(), 16);
+///     assert!(spheres.iter().all(|&(r, _, _)| shape.normal_gap(r, 0.5).1 >= 0.0));
+/// }
+/// ```
+#[allow(clippy::type_complexity)]
+pub fn falling_cases(
+    n: usize,
+    seed: u64,
+) -> Vec<(
+    &'static str,
+    spheresweep::Static,
+    Vec<(DVec3, DVec3, DVec3)>,
+)> {
+    use spheresweep::{Container, Cylinder, Plane, Static};
+    let mut rng = spheresweep::rng::Rng::new(seed);
+    let shapes = [
+        (
+            "container",
+            Static::Container(Container::new([0.0; 3], 5.0).expect("valid")),
+        ),
+        (
+            "cylinder",
+            Static::Cylinder(Cylinder::new([0.0; 3], [0.0, 1.0, 0.0], 0.7).expect("valid")),
+        ),
+        (
+            "plane",
+            Static::Plane(Plane::new([0.0; 3], [0.0, 0.0, 1.0]).expect("valid")),
+        ),
+    ];
+    shapes
+        .into_iter()
+        .map(|(name, shape)| {
+            let mut cases = Vec::with_capacity(n);
+            while cases.len() < n {
+                let r = rng.direction() * 4.4 * rng.unit() + DVec3::new(0.0, 0.0, 0.5);
+                if shape.normal_gap(r, 0.5).1 < 0.0 {
+                    continue;
+                }
+                let v = rng.direction() * 10f64.powf(4.0 * rng.unit() - 2.0);
+                let g = rng.direction() * 10f64.powf(2.0 * rng.unit() - 1.0);
+                cases.push((r, v, g));
+            }
+            (name, shape, cases)
+        })
+        .collect()
+}
+
+/// An elastic gas of `n` spheres of radius 0.2 in a closed box of six planes (10 × 10 × 8),
+/// under `gravity` (zero: none): the same scene with and without gravity.
+///
+/// ```
+/// use glam::DVec3;
+/// let world = spheresweep_bench::sim::box_gas(50, DVec3::new(0.0, 0.0, -1.0), 1);
+/// assert_eq!((world.spheres.len(), world.statics.len()), (50, 6));
+/// ```
+pub fn box_gas(n: usize, gravity: DVec3, seed: u64) -> World {
+    use spheresweep::{Plane, Statics};
+    let (half, height, r) = (5.0f32, 8.0f32, 0.2);
+    let inside = |p: DVec3| {
+        p.x.abs() < f64::from(half) - r
+            && p.y.abs() < f64::from(half) - r
+            && p.z > r
+            && p.z < f64::from(height) - r
+    };
+    let mut spheres = generate::random_spheres(
+        DVec3::new(-f64::from(half), -f64::from(half), 0.0),
+        DVec3::new(f64::from(half), f64::from(half), f64::from(height)),
+        &inside,
+        n,
+        r,
+        1.0,
+        0,
+        seed,
+    )
+    .expect("room for the gas");
+    generate::thermal_velocities(&mut spheres, 1.0, seed + 1);
+    let mut statics = Statics::new();
+    for (p, normal) in [
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, height], [0.0, 0.0, -1.0]),
+        ([-half, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        ([half, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+        ([0.0, -half, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, half, 0.0], [0.0, -1.0, 0.0]),
+    ] {
+        statics.push(Plane::new(p, normal).expect("valid"), 0);
+    }
+    World {
+        spheres,
+        statics,
+        effects: Effects {
+            gravity,
+            ..Effects::default()
+        },
+        ..World::default()
+    }
+}
+
+/// Wall-clock time for `events` events (pair and wall collisions) of a fresh simulation of
+/// `world`, after a first stretch of as many events that is not timed.
+pub fn time_events(world: &World, events: u64) -> std::time::Duration {
+    let mut s = Simulation::new(world.clone()).expect("valid world");
+    let count = |s: &Simulation| s.stats().pair_collisions + s.stats().wall_collisions;
+    let mut t = 0.0;
+    while count(&s) < events {
+        t += 1.0;
+        s.advance_to(t).expect("no stall");
+    }
+    let (start, first) = (Instant::now(), count(&s));
+    while count(&s) < first + events {
+        t += 1.0;
+        s.advance_to(t).expect("no stall");
+    }
+    start
+        .elapsed()
+        .mul_f64(events as f64 / (count(&s) - first) as f64)
 }

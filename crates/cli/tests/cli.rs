@@ -190,6 +190,8 @@ fn every_shipped_scene_runs_and_writes_its_outputs() {
         ("hard_sphere_gas", 4000, false),
         ("granular_jet", 3600, true),
         ("sticky_aggregation", 2000, true),
+        ("settling_pile", 600, false),
+        ("galton_board", 250, false),
     ] {
         let dir = scratch(&format!("run-{name}"));
         let out = run(&[
