@@ -378,7 +378,7 @@ impl<
     /// covered by the candidates it keeps or by their own predictions).
     fn leave_shell(&mut self, i: u32) {
         self.stats.crossings += 1;
-        self.m.advance(i, self.now);
+        self.advance(i);
         if PERIODIC {
             let len = self.cells.len;
             let r = &mut self.m.bodies[i as usize].r;
@@ -414,8 +414,8 @@ impl<
 
     fn collide_pair(&mut self, i: u32, j: u32) {
         let now = self.now;
-        self.m.advance(i, now);
-        self.m.advance(j, now);
+        self.advance(i);
+        self.advance(j);
         let (bi, bj) = (self.m.bodies[i as usize], self.m.bodies[j as usize]);
         let mut dr = bj.r - bi.r;
         if PERIODIC {
@@ -459,7 +459,7 @@ impl<
 
     fn collide_wall(&mut self, i: u32, wall: Body) {
         let now = self.now;
-        self.m.advance(i, now);
+        self.advance(i);
         let bi = self.m.bodies[i as usize];
         let (n, gap, material) = self.walls.normal_gap(wall, bi.r, bi.radius);
         self.stats.max_wall_overlap = self.stats.max_wall_overlap.max(-gap / bi.radius);
@@ -510,6 +510,16 @@ impl<
         self.stats.slid += u64::from(out.slid);
     }
 
+    /// Moves sphere `i` to now: along its line, or its parabola under gravity.
+    #[inline(always)]
+    fn advance(&mut self, i: u32) {
+        if GRAVITY {
+            self.m.advance_falling(i, self.now);
+        } else {
+            self.m.advance(i, self.now);
+        }
+    }
+
     /// Puts sphere `i`'s pending event in the calendar (its earlier one is dropped).
     #[inline]
     fn schedule(&mut self, i: u32) {
@@ -524,7 +534,7 @@ impl<
     /// Predicts sphere `i`'s next pair contact, static contact and shell event from now.
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
-        self.m.advance(i, self.now);
+        self.advance(i);
         let (pairs, complete) = self.predict_pairs(i, false);
         self.best[i as usize] = Best {
             pairs,
