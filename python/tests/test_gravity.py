@@ -19,8 +19,8 @@ def test_a_dropped_ball_follows_free_fall_and_bounces_back_to_its_height():
         sim.advance_to(float(t))
         z = sim.positions[0, 2]
         assert abs(z - (0.5 + h - 0.5 * G * t * t)) < 1e-12
-    # One full bounce later it is back at the top, at rest.
-    sim.advance_to(3 * t_hit)
+    # It lands at t_hit and is back at the top, at rest, at 2 t_hit.
+    sim.advance_to(2 * t_hit)
     assert abs(sim.positions[0, 2] - (0.5 + h)) < 1e-9
     assert abs(sim.velocities[0, 2]) < 1e-9
     e = sim.energy()
@@ -28,23 +28,37 @@ def test_a_dropped_ball_follows_free_fall_and_bounces_back_to_its_height():
     assert e["potential"] == pytest.approx(G * (0.5 + h))
 
 
-def test_a_settling_pile_in_a_bowl_comes_to_rest_inside_it():
+def test_a_settling_pile_in_a_box_comes_to_rest_inside_it():
+    """A floor and four walls (in a round bowl frictionless spheres keep sliding along the
+    wall, which no normal impulse can stop: tests/gravity.rs measures that residue). By t = 6
+    the pile is at rest; its events then grow quickly as it stays there (the TC model's
+    elastic chatter: docs/derivations/gravity.md, "Resting contact"), so the run stops there."""
     rng = np.random.default_rng(3)
     g = np.arange(-2, 2) * 1.2 + 0.6
-    sites = np.stack(np.meshgrid(g, g, g), -1).reshape(-1, 3)[:40]
+    sites = np.stack(np.meshgrid(g, g, g + 2.5), -1).reshape(-1, 3)[:40]
+    walls = [ss.Plane([0, 0, 0], [0, 0, 1]), ss.Plane([-3, 0, 0], [1, 0, 0]),
+             ss.Plane([3, 0, 0], [-1, 0, 0]), ss.Plane([0, -3, 0], [0, 1, 0]),
+             ss.Plane([0, 3, 0], [0, -1, 0])]
     sim = ss.Simulation.from_spheres(sites, rng.normal(size=(40, 3)), np.full(40, 0.5),
-                                     containers=[ss.Container([0, 0, 0], 5.0)],
-                                     restitution=0.5, tc=1e-3, gravity=[0, 0, -G])
+                                     planes=walls, restitution=0.5, tc=1e-3,
+                                     gravity=[0, 0, -G])
     e0 = sim.energy()
-    for t in np.arange(1, 41) * 0.25:
+    for t in np.arange(1, 25) * 0.25:
         sim.advance_to(float(t))
-        reach = np.linalg.norm(sim.positions, axis=1) + sim.radii
-        assert np.max(reach) <= 5.0 * (1 + 2.0**-16)
+        p, r = sim.positions, sim.radii
+        assert np.min(p[:, 2] - r) >= -2.0**-16 * 0.5
+        assert np.max(np.abs(p[:, :2]) + r[:, None]) <= 3.0 + 2.0**-16 * 0.5
     e = sim.energy()
     # At rest: what is left moving is a small fraction of the energy the pile had to lose.
     dropped = e0["kinetic"] + e0["potential"] - e["potential"]
     assert e["kinetic"] < 1e-3 * dropped, (e, e0)
-    assert abs(e["total"] - e0["total"]) < 1e-9 * abs(e0["total"]) + 1e-9
+    assert abs(e["total"] - e0["total"]) < 1e-9 * abs(dropped)
+    # A pickled simulation goes on bit for bit.
+    import pickle
+    twin = pickle.loads(pickle.dumps(sim))
+    sim.advance_to(6.1)
+    twin.advance_to(6.1)
+    assert np.array_equal(sim.positions, twin.positions)
 
 
 def test_gravity_is_refused_with_a_periodic_box():

@@ -393,11 +393,14 @@ impl Materials {
         }
     }
 
-    /// Sphere `s` collided at `now`: the TC model's clock, and the collapse watch.
+    /// Sphere `s` collided at `now` with restitution `e`: the TC model's clock, and the
+    /// collapse watch. Only a run of dissipating collisions is a collapse: an elastic one (the
+    /// TC model's, among others) ends the run, so a resting stack under gravity that chatters
+    /// elastically is not taken for one (docs/derivations/gravity.md, "Resting contact").
     #[inline]
-    fn collided(&mut self, s: u32, now: f64, out: &mut Outcome) {
+    fn collided(&mut self, s: u32, now: f64, e: f64, out: &mut Outcome) {
         let k = s as usize;
-        if now - self.last[k] < self.rapid_window {
+        if e < 1.0 && now - self.last[k] < self.rapid_window {
             self.rapid[k] += 1;
             if self.rapid[k] >= RAPID_LIMIT {
                 out.collapsing = Some(s);
@@ -595,14 +598,14 @@ impl Responder for Materials {
                 out.joined = true;
                 let c = self.join(ci, cj);
                 self.move_cluster(m, c, v, now, out);
-                self.collided(i, now, out);
-                self.collided(j, now, out);
+                self.collided(i, now, 0.0, out);
+                self.collided(j, now, 0.0, out);
                 return;
             }
         };
         let (dvi, dvj, lost, virial) = exchange(mi, mj, u, e, n, dist);
-        self.collided(i, now, out);
-        self.collided(j, now, out);
+        self.collided(i, now, e, out);
+        self.collided(j, now, e, out);
         out.energy_lost = lost;
         out.virial = virial;
         out.restitution = e;
@@ -631,11 +634,11 @@ impl Responder for Materials {
                 out.joined = true;
                 self.cmass[c as usize] = f64::INFINITY;
                 self.move_cluster(m, c, DVec3::ZERO, now, out);
-                self.collided(i, now, out);
+                self.collided(i, now, 0.0, out);
                 return;
             }
         };
-        self.collided(i, now, out);
+        self.collided(i, now, e, out);
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);

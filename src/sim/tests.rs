@@ -100,6 +100,11 @@ fn checkpoints_resume_bit_for_bit() {
         },
         3.0,
     ));
+    // Under gravity: an inelastic mix settling in its container with TC.
+    let mut falling = sticky_mix(80, 0.6);
+    falling.effects.pairs.clear();
+    falling.effects.gravity = DVec3::new(0.0, 0.0, -9.81);
+    worlds.push((falling.clone(), 1.5));
     for (world, t) in worlds {
         let mut a = Simulation::new(world.clone()).unwrap();
         a.advance_to(t / 3.0).unwrap();
@@ -148,7 +153,17 @@ fn checkpoints_resume_bit_for_bit() {
     b.advance_to(1.0).unwrap();
     assert_eq!(a.spheres(), b.spheres());
     assert!(!b.take_events().is_empty());
-    // Another world (one radius differs) is refused by its fingerprint.
+    // Another world (gravity differs, or one radius) is refused by its fingerprint.
+    let mut a = Simulation::new(falling.clone()).unwrap();
+    a.advance_to(0.2).unwrap();
+    let mut weaker = falling.clone();
+    weaker.effects.gravity.z = -9.8;
+    assert!(
+        Simulation::restore(weaker, &a.checkpoint())
+            .unwrap_err()
+            .to_string()
+            .contains("another world")
+    );
     let mut other = gas.clone();
     other.spheres[7].radius *= 0.999;
     let mut a = Simulation::new(gas.clone()).unwrap();
