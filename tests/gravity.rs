@@ -237,24 +237,6 @@ fn gravity_where_it_cannot_be_is_refused() {
     assert!(err.contains("gravity") && err.contains("finite"), "{err}");
 }
 
-/// A box of six planes (floor `z = 0`, ceiling `z = H`, side walls).
-fn closed_box(half: f64, height: f64) -> Statics<u16> {
-    let (h, z) = (half as f32, height as f32);
-    let planes = [
-        ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
-        ([0.0, 0.0, z], [0.0, 0.0, -1.0]),
-        ([-h, 0.0, 0.0], [1.0, 0.0, 0.0]),
-        ([h, 0.0, 0.0], [-1.0, 0.0, 0.0]),
-        ([0.0, -h, 0.0], [0.0, 1.0, 0.0]),
-        ([0.0, h, 0.0], [0.0, -1.0, 0.0]),
-    ];
-    let mut s = Statics::new();
-    for (p, n) in planes {
-        s = s.with(Plane::new(p, n).unwrap(), 0);
-    }
-    s
-}
-
 /// This file's own Carnahan–Starling `Z(φ)` and `d(φZ)/dφ`.
 fn cs(phi: f64) -> (f64, f64) {
     let z = (1.0 + phi + phi * phi - phi.powi(3)) / (1.0 - phi).powi(3);
@@ -312,31 +294,9 @@ fn hydrostatic_fractions(
 /// comparison rejects the profile of a gravity 10 % off, so it can fail.
 #[test]
 fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_equilibrium() {
-    let (half, height, r, n) = (5.0, 8.0, 0.2, 400);
-    let inside =
-        |p: DVec3| p.x.abs() < half - r && p.y.abs() < half - r && p.z > r && p.z < height - r;
-    let mut spheres = spheresweep::sim::generate::random_spheres(
-        DVec3::new(-half, -half, 0.0),
-        DVec3::new(half, half, height),
-        &inside,
-        n,
-        r,
-        1.0,
-        0,
-        21,
-    )
-    .unwrap();
-    spheresweep::sim::generate::thermal_velocities(&mut spheres, 1.0, 5);
-    let g = 1.0;
-    let world = World {
-        spheres,
-        statics: closed_box(half, height),
-        effects: Effects {
-            gravity: DVec3::new(0.0, 0.0, -g),
-            ..Effects::default()
-        },
-        ..World::default()
-    };
+    // 400 spheres of radius 0.2 at kT = 1 in a box 10 × 10 × 8 of six planes (the bench's).
+    let (half, height, r, n, g) = (5.0, 8.0, 0.2, 400, 1.0);
+    let world = spheresweep_bench::sim::box_gas(n, DVec3::new(0.0, 0.0, -g), 21);
     let mut sim = Simulation::new(world).unwrap();
     let e0 = sim.kinetic_energy() + sim.potential_energy();
     sim.advance_to(200.0).unwrap();

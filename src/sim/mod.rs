@@ -18,6 +18,9 @@
 //! The layer sits above the whole-scene query and uses the kernels directly: each sphere has a
 //! neighbour list with a shell, and pair prediction answers the approaching entries with the
 //! `Stable` kernel on `f64x4` lanes; static shapes use the f64 kernels. Policies and bounds: docs/derivations/simulation.md.
+//! Under [`Effects::gravity`] paths are parabolas, pairs still meet on a line, and the static
+//! shapes' contacts are the certified roots of a quadratic or quartic
+//! (docs/derivations/gravity.md).
 
 mod assemble;
 mod cells;
