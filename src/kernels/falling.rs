@@ -7,9 +7,10 @@
 //! The method isolates every real root by the roots of the derivatives: the roots of `p′`
 //! (found the same way, one degree down) cut `[0, T]` into pieces on which `p` is monotone,
 //! `T` being Fujiwara's bound on the roots; the first piece on which `p` rises from below zero
-//! to at least zero holds the answer, found by bisection. Every decision is a sign of `p` or
-//! of a derivative evaluated once, so a root is missed only where `p` stays within its own
-//! rounding of zero: a graze no deeper than that rounding.
+//! to at least zero holds the answer, narrowed to adjacent doubles (Newton's steps inside the
+//! bracket, then halving). Every decision is a sign of `p` or of a derivative evaluated once,
+//! so a root is missed only where `p` stays within its own rounding of zero: a graze no deeper
+//! than that rounding.
 
 /// The coefficients `a_0 … a_4` of a polynomial of degree at most four.
 pub(crate) type Poly = [f64; 5];
@@ -18,7 +19,8 @@ pub(crate) type Poly = [f64; 5];
 /// with `p` increasing), or `0` when the sphere is on or past the wall moving out
 /// (`p(0) ≥ 0` and `p′(0) ≥ 0`); `+∞` when it never does. A sphere past the wall moving back
 /// in (`p(0) > 0`, `p′(0) < 0`) is answered at its next rise, the seed's rule that only an
-/// approach is a contact.
+/// approach is a contact. Coefficients beyond f64's range (a scene of size or gravity near
+/// 10¹⁵⁰) give `+∞`: the engine's invariant check names any breach that follows.
 pub(crate) fn earliest_rise(p: &Poly) -> f64 {
     if !p.iter().all(|a| a.is_finite()) {
         return f64::INFINITY;

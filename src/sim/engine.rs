@@ -10,9 +10,11 @@
 //! applies the [`Responder`] and predicts every changed sphere against its list, four pairs at
 //! a time in f64 lanes (`predict`). The cell grid is touched only at shell events.
 //!
-//! The engine is generic over the response `R` and three switches fixed when it is assembled:
-//! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all) and `GEOMETRY` (contact point
-//! and normal in the event log), so a scene without them runs none of their code.
+//! The engine is generic over the response `R` and four switches fixed when it is assembled:
+//! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all), `GEOMETRY` (contact point
+//! and normal in the event log) and `GRAVITY` (parabolic paths, the walls' polynomials, a
+//! bound on the shell exit, rest hops: docs/derivations/gravity.md), so a scene without them
+//! runs none of their code.
 
 use glam::DVec3;
 
