@@ -411,6 +411,40 @@ impl Materials {
         self.last[k] = now;
     }
 
+    /// Under gravity with the TC model: the velocity changes `(dvi, dvj)` and the energy lost of
+    /// a pair collision, raised so that the pair separates at least at the hop speed
+    /// `‖g‖·tc/2` (momentum kept, the energy added taken from the loss): a contact between
+    /// spheres pressed together by the weight above them then recurs no sooner than about
+    /// `tc`, as a wall contact does (`walls::hop_speed`), instead of chattering ever faster as
+    /// the pile's last motion drains away (docs/derivations/gravity.md, "Resting piles").
+    /// Unchanged without gravity or TC.
+    #[inline]
+    fn pair_hop(
+        &self,
+        g: DVec3,
+        n: DVec3,
+        (mi, mj): (f64, f64),
+        relative: f64,
+        (dvi, dvj, lost): (DVec3, DVec3, f64),
+    ) -> (DVec3, DVec3, f64) {
+        if g == DVec3::ZERO || self.tc <= 0.0 || mi.is_infinite() || mj.is_infinite() {
+            return (dvi, dvj, lost);
+        }
+        let hop = 0.5 * g.length() * self.tc;
+        let apart = relative + (dvj - dvi).dot(n);
+        if apart >= hop {
+            return (dvi, dvj, lost);
+        }
+        let mu = mi * mj / (mi + mj);
+        let impulse = mu * (hop - apart);
+        let added = 0.5 * mu * (hop * hop - apart * apart);
+        (
+            dvi - n * (impulse / mi),
+            dvj + n * (impulse / mj),
+            lost - added,
+        )
+    }
+
     fn response(&self, a: u16, b: u16) -> Response {
         self.table[usize::from(a) * self.n + usize::from(b)]
     }
@@ -604,6 +638,7 @@ impl Responder for Materials {
             }
         };
         let (dvi, dvj, lost, virial) = exchange(mi, mj, u, e, n, dist);
+        let (dvi, dvj, lost) = self.pair_hop(m.g, n, (mi, mj), (vj - vi).dot(n), (dvi, dvj, lost));
         self.collided(i, now, e, out);
         self.collided(j, now, e, out);
         out.energy_lost = lost;
