@@ -32,20 +32,30 @@ pub(crate) fn earliest_rise(p: &Poly) -> f64 {
     if degree == 0 {
         return f64::INFINITY;
     }
-    let end = root_bound(p, degree);
-    let mut knots = [0.0; 5];
-    let cuts = roots_in(&derivative(p), degree - 1, end, &mut knots[1..]);
-    knots[cuts + 1] = end;
+    let (knots, count) = monotone_pieces(p, degree, root_bound(p, degree));
     let mut lo = 0.0;
     let mut p_lo = eval(p, 0.0);
-    for &hi in &knots[1..cuts + 2] {
+    for &hi in &knots[1..count] {
         let p_hi = eval(p, hi);
         if p_lo < 0.0 && p_hi >= 0.0 {
-            return bisect(p, lo, hi);
+            return narrow(p, lo, hi, true).0;
         }
         (lo, p_lo) = (hi, p_hi);
     }
     f64::INFINITY
+}
+
+/// The ends of the pieces of `[0, end]` on which `q` (degree at most `n ≤ 4`) is monotone:
+/// `0`, the roots of `q′` inside, then `end`; and how many of the five slots are used.
+fn monotone_pieces(q: &Poly, n: usize, end: f64) -> ([f64; 5], usize) {
+    let mut knots = [0.0; 5];
+    let inner = if n >= 2 {
+        roots_in(&derivative(q), n - 1, end, &mut knots[1..4])
+    } else {
+        0
+    };
+    knots[inner + 1] = end;
+    (knots, inner + 2)
 }
 
 /// The index of the highest non-zero coefficient (`0` for a constant).
@@ -82,27 +92,22 @@ fn root_bound(p: &Poly, n: usize) -> f64 {
 }
 
 /// The roots of `q` (degree at most `n ≤ 3`) strictly inside `(0, end)`, in increasing order,
-/// written to `out`; how many. The roots of `q′` cut the interval into monotone pieces, each
-/// holding at most one root, found by bisection where `q` changes sign.
+/// written to `out`; how many. On each of `q`'s monotone pieces at most one root lies, found
+/// where `q` changes sign across the piece and narrowed to adjacent doubles.
 fn roots_in(q: &Poly, n: usize, end: f64, out: &mut [f64]) -> usize {
     let n = n.min(degree(q));
     if n == 0 {
         return 0;
     }
-    let mut cuts = [0.0; 4];
-    let inner = if n >= 2 {
-        roots_in(&derivative(q), n - 1, end, &mut cuts[1..])
-    } else {
-        0
-    };
-    cuts[inner + 1] = end;
+    let (knots, count) = monotone_pieces(q, n, end);
     let mut found = 0;
     let mut lo = 0.0;
     let mut q_lo = eval(q, 0.0);
-    for &hi in &cuts[1..inner + 2] {
+    for &hi in &knots[1..count] {
         let q_hi = eval(q, hi);
         if (q_lo < 0.0) != (q_hi < 0.0) && q_hi != 0.0 && found < out.len() {
-            let t = bisect_sign(q, lo, hi, q_lo < 0.0);
+            let (a, b) = narrow(q, lo, hi, q_lo < 0.0);
+            let t = 0.5 * (a + b);
             if t > 0.0 && t < end {
                 out[found] = t;
                 found += 1;
@@ -113,21 +118,9 @@ fn roots_in(q: &Poly, n: usize, end: f64, out: &mut [f64]) -> usize {
     found
 }
 
-/// The root of `p` in `[lo, hi]` where `p(lo) < 0 ≤ p(hi)`: the bracket is halved until no
-/// double lies between its ends, and its lower end is returned (a time at which the sphere is
-/// still on the allowed side by `p`'s own evaluation).
-fn bisect(p: &Poly, lo: f64, hi: f64) -> f64 {
-    let (lo, _) = narrow(p, lo, hi, true);
-    lo
-}
-
-/// A sign change of `q` in `[lo, hi]` (`rising`: `q(lo) < 0`), to the last double.
-fn bisect_sign(q: &Poly, lo: f64, hi: f64, rising: bool) -> f64 {
-    let (lo, hi) = narrow(q, lo, hi, rising);
-    0.5 * (lo + hi)
-}
-
-/// Narrows `[lo, hi]` around the sign change of `q` until its ends are adjacent doubles:
+/// Narrows `[lo, hi]` around the sign change of `q` (`rising`: `q(lo) < 0 ≤ q(hi)`, else the
+/// reverse) until its ends are adjacent doubles; for a rise its lower end is a time at which
+/// the sphere is still on the allowed side by `q`'s own evaluation. How:
 /// Newton's steps from the middle while they stay inside the bracket (each evaluation moves
 /// one end), a few single-ulp steps to close it around where they converged, then halving
 /// whatever is left. Every end is set by the sign of `q` evaluated there, as with halving
@@ -174,7 +167,7 @@ fn narrow(q: &Poly, mut lo: f64, mut hi: f64, rising: bool) -> (f64, f64) {
         if mid <= lo || mid >= hi {
             return (lo, hi);
         }
-        if (eval(q, mid) < 0.0) == rising {
+        if below(mid) {
             lo = mid;
         } else {
             hi = mid;

@@ -328,13 +328,13 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
         tc,
     } = parts;
     if s.geometry {
-        let mut e = Engine::<R, P, W, true, F>::new(m, cells, delta, walls, r, log);
-        e.rest_time = tc;
-        Box::new(e)
+        Box::new(Engine::<R, P, W, true, F>::new(
+            m, cells, delta, walls, r, log, tc,
+        ))
     } else {
-        let mut e = Engine::<R, P, W, false, F>::new(m, cells, delta, walls, r, log);
-        e.rest_time = tc;
-        Box::new(e)
+        Box::new(Engine::<R, P, W, false, F>::new(
+            m, cells, delta, walls, r, log, tc,
+        ))
     }
 }
 

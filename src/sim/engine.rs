@@ -133,7 +133,7 @@ pub(crate) struct Engine<
     pub broken_walls: bool,
     /// Under gravity: the least time a sphere resting on a wall takes to come back to it (the
     /// TC model's duration, or `0`: then only rounding sets its hops, `walls::hop_speed`).
-    pub rest_time: f64,
+    rest_time: f64,
     /// Periodic boxes only (else empty): how many times each sphere has been wrapped across
     /// each axis (`+1` leaving through the upper face), so that its unwrapped position is its
     /// position plus `images · len`.
@@ -178,8 +178,9 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
-    /// Assembles the engine at time 0 with shells of half-width `delta`, builds every list
-    /// and predicts every sphere.
+    /// Assembles the engine at time 0 with shells of half-width `delta` (and, under gravity,
+    /// rest hops of `rest_time`: the TC model's duration), builds every list and predicts
+    /// every sphere.
     pub fn new(
         m: Motion,
         cells: Cells,
@@ -187,6 +188,7 @@ impl<
         walls: Statics<u16>,
         responder: R,
         log: bool,
+        rest_time: f64,
     ) -> Self {
         let n = m.bodies.len();
         let centres = m
@@ -225,7 +227,7 @@ impl<
             since_reorder: 0,
             width: 1.0,
             broken_walls: false,
-            rest_time: 0.0,
+            rest_time,
             images: if PERIODIC {
                 vec![[0; 3]; n]
             } else {

@@ -109,8 +109,8 @@ pub struct Effects {
     /// Whether events are recorded (see `Simulation::take_events`).
     pub record_events: bool,
     /// A uniform acceleration every sphere feels (zero: none, and the engine has no gravity
-    /// code at all). Static shapes and a cluster stuck to one stay put. Refused with a
-    /// periodic box (it is periodic along every axis, so along `g`) and with sticky responses.
+    /// code at all). Static shapes stay put. Refused with a periodic box (it is periodic along
+    /// every axis, so along `g`) and with sticky responses.
     pub gravity: DVec3,
 }
 

@@ -174,8 +174,8 @@ pub(crate) struct Wall {
     /// plane, a cylinder), which a sphere leaving it never meets again on a straight line; a
     /// container's floor for concave walls ([`leave_wall`]).
     pub floor: f64,
-    /// Least normal speed at which the sphere leaves, under gravity that presses it against
-    /// the wall: a resting sphere hops ([`hop_off`], `walls::hop_speed`); `0` otherwise.
+    /// Least normal speed at which the sphere leaves under gravity, so that a resting sphere
+    /// hops ([`hop_off`], `walls::hop_speed`); `0` without gravity.
     pub hop: f64,
 }
 

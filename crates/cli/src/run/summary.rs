@@ -226,7 +226,7 @@ impl Summary {
         let finite = |x: f64| (!x.is_nan()).then_some(x.max(0.0));
         let stats = *sim.stats();
         let v3 = |v: DVec3| [v.x, v.y, v.z];
-        let ke1 = sim.kinetic_energy();
+        let (ke1, pe1) = (sim.kinetic_energy(), sim.potential_energy());
         let clusters = sim.clusters();
         let collisions = stats.pair_collisions + stats.wall_collisions;
         Ok(Self {
@@ -248,20 +248,11 @@ impl Summary {
             },
             potential_energy: Energy {
                 start: about.potential_start,
-                end: sim.potential_energy(),
-                relative_drift: relative(
-                    sim.potential_energy() - about.potential_start,
-                    about.potential_start.abs(),
-                ),
+                end: pe1,
+                relative_drift: relative(pe1 - about.potential_start, about.potential_start.abs()),
             },
             energy_lost: stats.energy_lost,
-            energy_balance: balance(
-                c.ke0,
-                ke1,
-                about.potential_start,
-                sim.potential_energy(),
-                stats.energy_lost,
-            ),
+            energy_balance: balance(c.ke0, ke1, about.potential_start, pe1, stats.energy_lost),
             momentum: Momentum {
                 start: v3(c.p0),
                 end: v3(sim.momentum()),
