@@ -98,6 +98,8 @@ pub(crate) struct Engine<
     lists: NeighbourLists,
     /// The periodic shift of each list entry's shift code.
     shift: [DVec3; 27],
+    /// The cells around each cell, per axis (`neighbours.rs`).
+    stencil: neighbours::StencilTable,
     queue: Calendar,
     pub now: f64,
     pub walls: Statics<u16>,
@@ -202,6 +204,7 @@ impl<
         let mut e = Self {
             lists: NeighbourLists::new(delta, centres),
             shift: lists::shifts(cells.len, PERIODIC),
+            stencil: neighbours::StencilTable::new(&cells, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             best: vec![Best::default(); n],
             cells,
@@ -617,6 +620,7 @@ impl<
             + b(&self.best)
             + b(&self.id_of)
             + self.cells.bytes()
+            + self.stencil.bytes()
             + self.queue.bytes()
             + self.lists.bytes()
             + b(&self.found)

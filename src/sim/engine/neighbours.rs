@@ -169,7 +169,7 @@ impl<
                 len += usize::from(dr.length_squared() <= d * d);
             }
         };
-        let Stencil { gap, coord, shift } = Stencil::around::<PERIODIC>(&self.cells, ci, si.c);
+        let Stencil { gap, coord, shift } = self.stencil.around(&self.cells, ci, si.c);
         let far = self.lists.far * self.lists.far;
         let (nx, ny) = (n[0] as usize, n[1] as usize);
         for z in 0..3 {
@@ -216,8 +216,54 @@ struct Stencil {
     shift: [[u8; 3]; 3],
 }
 
-impl Stencil {
-    fn around<const PERIODIC: bool>(cells: &Cells, ci: [i32; 3], c: DVec3) -> Self {
+/// Each axis's neighbour coordinates and shift digits, per cell coordinate, made once for the
+/// grid: a rebuild looks its stencil up instead of wrapping nine coordinates.
+#[derive(Debug, Clone, Default)]
+pub(super) struct StencilTable {
+    axes: [Vec<([i32; 3], [u8; 3])>; 3],
+}
+
+impl StencilTable {
+    /// The table of `cells`, wrapping (`periodic`) or marking the cells beyond an open domain's
+    /// edge with −1.
+    pub(super) fn new(cells: &Cells, periodic: bool) -> Self {
+        let axes = [0, 1, 2].map(|k| {
+            let n = cells.n[k];
+            (0..n)
+                .map(|at| {
+                    let mut coord = [0i32; 3];
+                    let mut shift = [1u8; 3];
+                    for (o, d) in (-1..=1).enumerate() {
+                        let mut c = at + d;
+                        if c < 0 || c >= n {
+                            if periodic {
+                                let wrap = if c < 0 { 1 } else { -1 };
+                                c += wrap * n;
+                                shift[o] = (1 - wrap) as u8;
+                            } else {
+                                c = -1;
+                            }
+                        }
+                        coord[o] = c;
+                    }
+                    (coord, shift)
+                })
+                .collect()
+        });
+        Self { axes }
+    }
+
+    /// Bytes the table holds (a few per cell along each axis).
+    pub(super) fn bytes(&self) -> usize {
+        self.axes
+            .iter()
+            .map(|a| a.capacity() * std::mem::size_of::<([i32; 3], [u8; 3])>())
+            .sum()
+    }
+
+    /// The stencil around centre `c`, in cell `ci`.
+    #[inline]
+    fn around(&self, cells: &Cells, ci: [i32; 3], c: DVec3) -> Stencil {
         let mut gap = [[0.0f64; 3]; 3];
         let mut coord = [[0i32; 3]; 3];
         let mut shift = [[1u8; 3]; 3];
@@ -225,19 +271,7 @@ impl Stencil {
             let below = c[k] - (cells.lo[k] + f64::from(ci[k]) * cells.w[k]);
             let above = cells.w[k] - below;
             gap[k] = [below * below, 0.0, above * above];
-            for (o, d) in (-1..=1).enumerate() {
-                let mut at = ci[k] + d;
-                if at < 0 || at >= cells.n[k] {
-                    if PERIODIC {
-                        let wrap = if at < 0 { 1 } else { -1 };
-                        at += wrap * cells.n[k];
-                        shift[k][o] = (1 - wrap) as u8;
-                    } else {
-                        at = -1;
-                    }
-                }
-                coord[k][o] = at;
-            }
+            (coord[k], shift[k]) = self.axes[k][ci[k] as usize];
         }
         Stencil { gap, coord, shift }
     }
