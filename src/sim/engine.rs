@@ -97,7 +97,7 @@ pub(crate) struct Engine<
     /// Each sphere's neighbour list and shell centre.
     lists: NeighbourLists,
     /// The periodic shift of each list entry's shift code.
-    shift: [DVec3; 27],
+    shift: [DVec3; lists::SHIFT_ROWS],
     /// The cells around each cell, per axis (`neighbours.rs`).
     stencil: neighbours::StencilTable,
     queue: Calendar,
@@ -109,6 +109,8 @@ pub(crate) struct Engine<
     /// A rebuild's entries within reach, and those of them new to the sphere.
     found: Vec<u32>,
     fresh: Vec<u32>,
+    /// A rebuild's copy of the list it replaces.
+    old: Vec<u32>,
     /// Whether a sphere is at most once in any list (three cells a side, or an open domain),
     /// so that a rebuild may predict the entries new to it alone.
     once_per_list: bool,
@@ -216,6 +218,7 @@ impl<
             log: log.then(Vec::new),
             found: Vec::new(),
             fresh: Vec::new(),
+            old: Vec::new(),
             outcome: Outcome::default(),
             same_time: 0,
             stall_limit: 1_000_000 + 1000 * n as u64,
@@ -625,6 +628,7 @@ impl<
             + self.lists.bytes()
             + b(&self.found)
             + b(&self.fresh)
+            + b(&self.old)
     }
 
     /// Renumbers the spheres in cell order (then by index, so the result is deterministic):

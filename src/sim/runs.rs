@@ -40,6 +40,17 @@ impl Runs {
         k
     }
 
+    /// Makes owner `o`'s run `values` (growing every run first if it is longer than they are).
+    #[inline]
+    pub fn set(&mut self, o: usize, values: &[u32]) {
+        while values.len() > self.cap {
+            self.grow();
+        }
+        let start = o * self.cap;
+        self.slots[start..start + values.len()].copy_from_slice(values);
+        self.count[o] = values.len() as u32;
+    }
+
     /// Removes slot `k` of owner `o`'s run; the run's last value moves into it and is
     /// returned (`None` when `k` was the last).
     #[inline]
@@ -148,5 +159,23 @@ mod tests {
         r.push(0, 7);
         r.clear_all();
         assert!((0..r.owners()).all(|o| r.of(o).is_empty()));
+    }
+
+    #[test]
+    fn a_run_set_longer_than_the_capacity_grows_them_all_and_keeps_the_others() {
+        let mut r = Runs::new(3, 2);
+        r.push(0, 5);
+        r.push(2, 6);
+        r.push(2, 7);
+        let long: Vec<u32> = (10..17).collect();
+        r.set(1, &long);
+        assert!(r.capacity() >= long.len());
+        assert_eq!(r.of(1), &long[..]);
+        assert_eq!((r.of(0), r.of(2)), (&[5][..], &[6, 7][..]));
+        // A shorter set replaces the run, it does not append.
+        r.set(1, &[3]);
+        assert_eq!(r.of(1), [3]);
+        r.set(1, &[]);
+        assert!(r.of(1).is_empty());
     }
 }

@@ -39,10 +39,14 @@ pub(crate) fn mirror(code: u8) -> u8 {
     26 - code
 }
 
+/// Rows of the shift table: one for every value of an entry's code bits, so that a code
+/// indexes it with no bounds check (codes 27–31 never occur; their rows are zero).
+pub(crate) const SHIFT_ROWS: usize = 1 << CODE_BITS;
+
 /// The periodic shift of each code for box lengths `len` (all zero for an open domain).
-pub(crate) fn shifts(len: DVec3, periodic: bool) -> [DVec3; 27] {
+pub(crate) fn shifts(len: DVec3, periodic: bool) -> [DVec3; SHIFT_ROWS] {
     std::array::from_fn(|code| {
-        if !periodic {
+        if !periodic || code >= 27 {
             return DVec3::ZERO;
         }
         let s = [code % 3, code / 3 % 3, code / 9].map(|x| x as f64 - 1.0);
@@ -149,6 +153,12 @@ impl NeighbourLists {
     #[inline]
     pub fn push(&mut self, i: u32, e: u32) {
         self.entries.push(i as usize, e);
+    }
+
+    /// Makes sphere `i`'s list `entries`.
+    #[inline]
+    pub fn set(&mut self, i: u32, entries: &[u32]) {
+        self.entries.set(i as usize, entries);
     }
 
     /// Removes entry `e` from sphere `i`'s list (a list holds an entry at most once).

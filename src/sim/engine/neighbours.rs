@@ -99,24 +99,28 @@ impl<
     }
 
     /// Sphere `i`'s new list after its shell event (its centre already moved, into cell
-    /// `ci`): off its old neighbours' lists, then every sphere whose centre is within reach,
-    /// both ways; the
-    /// entries that were not in the old list go into `fresh` when `track_fresh` (a box of
-    /// fewer than three cells a side predicts the whole list and skips it).
+    /// `ci`): off its old neighbours' lists (read from a copy of its own), then every sphere
+    /// whose centre is within reach, set as its list in one copy and added to theirs; the
+    /// entries naming a sphere that was not in the old list go into `fresh` when
+    /// `track_fresh` (a box of fewer than three cells a side predicts the whole list and
+    /// skips it).
     pub(super) fn rebuild_list(&mut self, i: u32, ci: [i32; 3], track_fresh: bool) {
         let epoch = self.lists.next_epoch();
-        for k in 0..self.lists.of(i).len() {
-            let (j, code) = split(self.lists.of(i)[k]);
+        let mut old = std::mem::take(&mut self.old);
+        old.clear();
+        old.extend_from_slice(self.lists.of(i));
+        for &e in &old {
+            let (j, code) = split(e);
             self.lists.remove(j, entry(i, mirror(code)));
             self.lists.seen[j as usize] = epoch;
         }
-        self.lists.clear(i);
+        self.old = old;
         let found = self.within_reach(i, ci);
+        self.lists.set(i, &self.found[..found]);
         self.fresh.clear();
         for k in 0..found {
             let e = self.found[k];
             let (j, code) = split(e);
-            self.lists.push(i, e);
             self.lists.push(j, entry(i, mirror(code)));
             if track_fresh && self.lists.seen[j as usize] != epoch {
                 self.fresh.push(e);
