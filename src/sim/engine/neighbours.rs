@@ -6,6 +6,21 @@ use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Group, Kept};
 
+/// The latest time a merge may keep from a list and its completeness: anything for a complete
+/// list; for an incomplete one, no later than its last kept candidate (what it left out is
+/// no earlier than that).
+#[inline]
+fn bound((l, complete): ([Candidate; 2], bool)) -> f64 {
+    if complete {
+        f64::INFINITY
+    } else {
+        l.iter()
+            .rev()
+            .find(|c| c.t.is_finite())
+            .map_or(f64::NEG_INFINITY, |c| c.t)
+    }
+}
+
 /// The two earliest of two sorted candidate lists and whether the result holds every
 /// candidate. An incomplete list only bounds what it left out (no earlier than its last kept
 /// candidate), so nothing later than that bound may be kept from the other list: it could come
@@ -15,16 +30,6 @@ pub(super) fn merge(
     a: ([Candidate; 2], bool),
     b: ([Candidate; 2], bool),
 ) -> ([Candidate; 2], bool) {
-    let bound = |(l, complete): ([Candidate; 2], bool)| {
-        if complete {
-            f64::INFINITY
-        } else {
-            l.iter()
-                .rev()
-                .find(|c| c.t.is_finite())
-                .map_or(f64::NEG_INFINITY, |c| c.t)
-        }
-    };
     let limit = bound(a).min(bound(b));
     // The two least by time, then partner, of the four: kept as they come, no sort.
     let earlier = |x: &Candidate, y: &Candidate| x.t.total_cmp(&y.t).then(x.j.cmp(&y.j)).is_lt();
@@ -286,21 +291,12 @@ mod tests {
     use super::*;
     use crate::rng::Rng;
 
-    /// The merge by its definition: sort the four, keep the first two within the bound.
+    /// The merge by its definition: sort the four, keep the first two within the lists'
+    /// bound (`bound`, shared with `merge`: this test is of the selection).
     fn merged_by_sorting(
         a: ([Candidate; 2], bool),
         b: ([Candidate; 2], bool),
     ) -> ([Candidate; 2], bool) {
-        let bound = |(l, complete): ([Candidate; 2], bool)| {
-            if complete {
-                f64::INFINITY
-            } else {
-                l.iter()
-                    .rev()
-                    .find(|c| c.t.is_finite())
-                    .map_or(f64::NEG_INFINITY, |c| c.t)
-            }
-        };
         let limit = bound(a).min(bound(b));
         let mut all: Vec<Candidate> = [a.0[0], a.0[1], b.0[0], b.0[1]]
             .into_iter()
