@@ -1,16 +1,15 @@
-//! Pair prediction, four neighbours at a time in f64: the engine writes each approaching
-//! neighbour's relative position and velocity (computed in f64 at the current time, so they are
-//! small numbers) into the lanes of a [`Group`], and the `Stable` sphere-pair kernel on `f64x4`
-//! answers the group; [`Kept`] keeps the two earliest contacts. Every event time is an f64 root
-//! of the same formula the batch kernels use. Why f64 and not an f32 screen first (the lists are
-//! short): docs/derivations/simulation.md, "Prediction in f64".
+//! Pair prediction, one neighbour at a time in f64: the engine computes each approaching
+//! neighbour's relative position and velocity (in f64 at the current time, so they are small
+//! numbers), [`arrival`] answers it with the `Stable` sphere-pair kernel for one pair, and
+//! [`Kept`] keeps the two earliest contacts. Every event time is an f64 root of the same formula
+//! the batch kernels use, to the bit. Why f64 and not an f32 screen, and why one at a time and
+//! not four (the lists are short): docs/derivations/simulation.md, "Prediction in f64".
 
 use glam::DVec3;
-use wide::f64x4;
 
 use super::cells::NONE;
-use crate::contact::Side;
-use crate::kernels::quadratic::{Relative3, Solver, Stable};
+use crate::kernels::quadratic::{Relative3, Stable};
+use crate::lanes::F64x1;
 
 /// A predicted pair contact: when, with whom, and the partner's counter at the prediction (the
 /// prediction is stale once the partner's velocity has changed).
@@ -34,67 +33,16 @@ impl Candidate {
     }
 }
 
-/// Four pairs' relative motion, one component per array (the kernel's lane layout), and whose
-/// they are.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Group {
-    r0: [[f64; 4]; 3],
-    v: [[f64; 4]; 3],
-    d: [f64; 4],
-    who: [u32; 4],
-    lanes: usize,
-}
-
-impl Default for Group {
-    fn default() -> Self {
-        Self {
-            r0: [[0.0; 4]; 3],
-            v: [[0.0; 4]; 3],
-            d: [f64::NAN; 4],
-            who: [u32::MAX; 4],
-            lanes: 0,
-        }
-    }
-}
-
-impl Group {
-    /// Adds a pair: `r0` and `v` are the neighbour's position and velocity relative to the
-    /// predicted sphere, `d` their contact distance. Returns whether the group is now full.
-    #[inline(always)]
-    pub fn push(&mut self, r0: DVec3, v: DVec3, d: f64, who: u32) -> bool {
-        let lane = self.lanes;
-        for k in 0..3 {
-            self.r0[k][lane] = r0[k];
-            self.v[k][lane] = v[k];
-        }
-        self.d[lane] = d;
-        self.who[lane] = who;
-        self.lanes += 1;
-        self.lanes == 4
-    }
-
-    /// Pairs in the group.
-    #[inline]
-    pub fn len(&self) -> usize {
-        self.lanes
-    }
-
-    /// Earliest exterior contact times of the group's pairs from now (`+∞` for none; empty
-    /// lanes have `d = NaN` and never hit), and the group emptied.
-    #[inline]
-    fn answer(&mut self) -> [f64; 4] {
-        for lane in self.lanes..4 {
-            self.d[lane] = f64::NAN;
-        }
-        let rel = Relative3 {
-            r0: self.r0.map(f64x4::from),
-            v: self.v.map(f64x4::from),
-            d: f64x4::from(self.d),
-        };
-        let (t, _) = Stable::arrival(&rel, Side::Exterior, f64x4::splat(f64::INFINITY));
-        self.lanes = 0;
-        t.to_array()
-    }
+/// The earliest exterior contact time from now of a pair at `r0`, moving at `v`, relative to
+/// each other, with contact distance `d`: the `Stable` sphere-pair kernel for one pair in f64
+/// (`+∞` for none).
+#[inline(always)]
+pub(crate) fn arrival(r0: DVec3, v: DVec3, d: f64) -> f64 {
+    Stable::exterior_one(&Relative3 {
+        r0: r0.to_array().map(F64x1),
+        v: v.to_array().map(F64x1),
+        d: F64x1(d),
+    })
 }
 
 /// The two earliest contacts answered so far, and how many contacts there were.
@@ -114,29 +62,15 @@ impl Default for Kept {
 }
 
 impl Kept {
-    /// Answers `group` (emptying it) at time `now`; each partner's `counter` is recorded with
-    /// its contact.
+    /// Adds a contact at time `t` with partner `j`, whose counter is `counter` now.
     #[inline]
-    pub fn answer(&mut self, group: &mut Group, now: f64, counter: &[u32]) {
-        let lanes = group.len();
-        let who = group.who;
-        let t = group.answer();
-        for lane in 0..lanes {
-            if !t[lane].is_finite() {
-                continue;
-            }
-            self.found += 1;
-            let j = who[lane];
-            let c = Candidate {
-                t: now + t[lane],
-                j,
-                counter: counter[j as usize],
-            };
-            if c.before(&self.top[0]) {
-                self.top = [c, self.top[0]];
-            } else if c.before(&self.top[1]) {
-                self.top[1] = c;
-            }
+    pub fn add(&mut self, t: f64, j: u32, counter: u32) {
+        self.found += 1;
+        let c = Candidate { t, j, counter };
+        if c.before(&self.top[0]) {
+            self.top = [c, self.top[0]];
+        } else if c.before(&self.top[1]) {
+            self.top[1] = c;
         }
     }
 
@@ -155,15 +89,12 @@ mod tests {
     /// The two earliest contacts kept from these neighbours, as `predict_pairs` keeps them
     /// (receding pairs skipped).
     fn kept(pairs: &[(DVec3, DVec3, f64)]) -> Vec<(f64, usize)> {
-        let (mut kept, mut group) = (Kept::default(), Group::default());
-        let counter = vec![0; pairs.len()];
+        let mut kept = Kept::default();
         for (k, &(r0, v, d)) in pairs.iter().enumerate() {
-            if r0.dot(v) < 0.0 && group.push(r0, v, d, k as u32) {
-                kept.answer(&mut group, 0.0, &counter);
+            let t = arrival(r0, v, d);
+            if r0.dot(v) < 0.0 && t.is_finite() {
+                kept.add(t, k as u32, 0);
             }
-        }
-        if group.len() > 0 {
-            kept.answer(&mut group, 0.0, &counter);
         }
         let (top, complete) = kept.result();
         assert_eq!(complete, kept.found <= 2);
@@ -225,9 +156,8 @@ mod tests {
             head_on(-DVec3::Y, 0.5),
         ];
         assert_eq!(kept(&pairs), vec![(0.5, 4), (1.0, 1)]);
-        let (mut k, mut g) = (Kept::default(), Group::default());
-        g.push(pairs[0].0, pairs[0].1, 1.0, 0);
-        k.answer(&mut g, 10.0, &[7]);
+        let mut k = Kept::default();
+        k.add(10.0 + arrival(pairs[0].0, pairs[0].1, 1.0), 0, 7);
         assert_eq!(k.result().0[0].counter, 7);
         assert_eq!(k.result().0[0].t, 13.0);
         assert!(k.result().1);

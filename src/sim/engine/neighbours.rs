@@ -1,10 +1,10 @@
 //! Sphere `i`'s neighbours: its list rebuilt from the cells around its shell centre at its
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
-//! four at a time; the two earliest are kept (`predict_pairs`).
+//! one at a time; the two earliest are kept (`predict_pairs`).
 
 use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
-use crate::sim::predict::{Group, Kept};
+use crate::sim::predict::{Kept, arrival};
 
 /// The latest time a merge may keep from a list and its completeness: anything for a complete
 /// list; for an incomplete one, no later than its last kept candidate (what it left out is
@@ -59,7 +59,7 @@ impl<
 {
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
     /// `fresh` holds, new to it at its shell event) and whether there were no others: each
-    /// approaching neighbour goes into a lane group, answered in f64 four at a time.
+    /// approaching neighbour is answered in f64, one at a time.
     pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
         let bi = self.m.bodies[i as usize];
         let list = if fresh_only {
@@ -68,7 +68,7 @@ impl<
             self.lists.of(i)
         };
         let now = self.now;
-        let (mut kept, mut group) = (Kept::default(), Group::default());
+        let mut kept = Kept::default();
         let mut count = 0u64;
         for &e in list {
             let (j, code) = split(e);
@@ -90,14 +90,14 @@ impl<
                 keep &= !(q < d2 * (1.0 - 1e-9)
                     || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
             }
-            if keep && group.push(r0, v, d, j) {
-                count += 4;
-                kept.answer(&mut group, now, &self.m.counter);
+            if !keep {
+                continue;
             }
-        }
-        if group.len() > 0 {
-            count += group.len() as u64;
-            kept.answer(&mut group, now, &self.m.counter);
+            count += 1;
+            let t = arrival(r0, v, d);
+            if t.is_finite() {
+                kept.add(now + t, j, self.m.counter[j as usize]);
+            }
         }
         self.stats.kernels.sphere += count;
         kept.result()
