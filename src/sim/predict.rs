@@ -105,7 +105,7 @@ mod tests {
     }
 
     /// A pair within f32 rounding of touching, closing slowly while sliding past, beside two
-    /// neighbours met a little later, in any lane of any group: it is the earliest kept (an
+    /// neighbours met a little later, anywhere in the list: it is the earliest kept (an
     /// f32 screen once left it out, and spheres sliding along a vessel's wall overlapped by
     /// 2.5·10⁻⁵ of their contact distance).
     #[test]
