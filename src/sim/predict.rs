@@ -62,11 +62,10 @@ impl Default for Kept {
 }
 
 impl Kept {
-    /// Adds a contact at time `t` with partner `j`, whose counter is `counter` now.
+    /// Adds a contact; the two earliest by time, then partner, stay (`Candidate::before`).
     #[inline]
-    pub fn add(&mut self, t: f64, j: u32, counter: u32) {
+    pub fn add(&mut self, c: Candidate) {
         self.found += 1;
-        let c = Candidate { t, j, counter };
         if c.before(&self.top[0]) {
             self.top = [c, self.top[0]];
         } else if c.before(&self.top[1]) {
@@ -93,7 +92,11 @@ mod tests {
         for (k, &(r0, v, d)) in pairs.iter().enumerate() {
             let t = arrival(r0, v, d);
             if r0.dot(v) < 0.0 && t.is_finite() {
-                kept.add(t, k as u32, 0);
+                kept.add(Candidate {
+                    t,
+                    j: k as u32,
+                    counter: 0,
+                });
             }
         }
         let (top, complete) = kept.result();
@@ -157,7 +160,11 @@ mod tests {
         ];
         assert_eq!(kept(&pairs), vec![(0.5, 4), (1.0, 1)]);
         let mut k = Kept::default();
-        k.add(10.0 + arrival(pairs[0].0, pairs[0].1, 1.0), 0, 7);
+        k.add(Candidate {
+            t: 10.0 + arrival(pairs[0].0, pairs[0].1, 1.0),
+            j: 0,
+            counter: 7,
+        });
         assert_eq!(k.result().0[0].counter, 7);
         assert_eq!(k.result().0[0].t, 13.0);
         assert!(k.result().1);

@@ -31,22 +31,15 @@ pub(super) fn merge(
     b: ([Candidate; 2], bool),
 ) -> ([Candidate; 2], bool) {
     let limit = bound(a).min(bound(b));
-    // The two least by time, then partner, of the four: kept as they come, no sort.
-    let earlier = |x: &Candidate, y: &Candidate| x.t.total_cmp(&y.t).then(x.j.cmp(&y.j)).is_lt();
-    let mut out = [Candidate::NONE; 2];
-    let mut kept = 0;
+    // The two least of the four, kept as they come (no sort) by the prediction's own rule.
+    let mut kept = Kept::default();
     for c in [a.0[0], a.0[1], b.0[0], b.0[1]] {
-        if !(c.t.is_finite() && c.t <= limit) {
-            continue;
-        }
-        kept += 1;
-        if kept == 1 || earlier(&c, &out[0]) {
-            out = [c, out[0]];
-        } else if kept == 2 || earlier(&c, &out[1]) {
-            out[1] = c;
+        if c.t.is_finite() && c.t <= limit {
+            kept.add(c);
         }
     }
-    (out, a.1 && b.1 && kept <= 2)
+    let (out, complete) = kept.result();
+    (out, a.1 && b.1 && complete)
 }
 
 impl<
@@ -96,7 +89,11 @@ impl<
             count += 1;
             let t = arrival(r0, v, d);
             if t.is_finite() {
-                kept.add(now + t, j, self.m.counter[j as usize]);
+                kept.add(Candidate {
+                    t: now + t,
+                    j,
+                    counter: self.m.counter[j as usize],
+                });
             }
         }
         self.stats.kernels.sphere += count;
