@@ -80,6 +80,13 @@ impl Cells {
         self.runs.of(cell)
     }
 
+    /// Cell `cell`'s [`cell_capacity`](Self::cell_capacity) slots and how many of them hold
+    /// its spheres (the rest are stale).
+    #[inline(always)]
+    pub fn slots(&self, cell: usize) -> (&[u32], usize) {
+        self.runs.slots(cell)
+    }
+
     /// The most spheres a cell holds now (the runs' capacity).
     #[inline]
     pub fn cell_capacity(&self) -> usize {

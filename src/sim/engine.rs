@@ -7,8 +7,8 @@
 //! sphere's list from the cells around its new centre and predicts it against the entries new
 //! to it only; a pair event whose partner
 //! changed since the prediction is predicted again; a real collision advances the bodies,
-//! applies the [`Responder`] and predicts every changed sphere against its list, four pairs at
-//! a time in f64 lanes (`predict`). The cell grid is touched only at shell events.
+//! applies the [`Responder`] and predicts every changed sphere against its list, one pair at a
+//! time in f64 (`predict`). The cell grid is touched only at shell events.
 //!
 //! The engine is generic over the response `R` and four switches fixed when it is assembled:
 //! `PERIODIC` (wrap or clamp), `WALLS` (any static shape at all), `GEOMETRY` (contact point
@@ -106,11 +106,16 @@ pub(crate) struct Engine<
     pub responder: R,
     pub stats: Stats,
     pub log: Option<Vec<EventRecord>>,
-    /// A rebuild's entries within reach, and those of them new to the sphere.
+    /// A rebuild's entries from the cells near, those within reach, and those of them new
+    /// to the sphere.
+    gathered: Vec<u32>,
+    codes: Vec<u8>,
     found: Vec<u32>,
     fresh: Vec<u32>,
     /// A rebuild's copy of the list it replaces.
     old: Vec<u32>,
+    /// A prediction's approaching neighbours.
+    near: Vec<neighbours::Approach>,
     /// Whether a sphere is at most once in any list (three cells a side, or an open domain),
     /// so that a rebuild may predict the entries new to it alone.
     once_per_list: bool,
@@ -216,9 +221,12 @@ impl<
             responder,
             stats: Stats::default(),
             log: log.then(Vec::new),
+            gathered: Vec::new(),
+            codes: Vec::new(),
             found: Vec::new(),
             fresh: Vec::new(),
             old: Vec::new(),
+            near: Vec::new(),
             outcome: Outcome::default(),
             same_time: 0,
             stall_limit: 1_000_000 + 1000 * n as u64,
@@ -626,7 +634,10 @@ impl<
             + self.stencil.bytes()
             + self.queue.bytes()
             + self.lists.bytes()
+            + b(&self.gathered)
+            + b(&self.codes)
             + b(&self.found)
+            + b(&self.near)
             + b(&self.fresh)
             + b(&self.old)
     }

@@ -28,6 +28,14 @@ impl Runs {
         &self.slots[start..start + self.count[o] as usize]
     }
 
+    /// Owner `o`'s whole run of [`capacity`](Self::capacity) slots and how many of them are
+    /// its values (the slots after those hold stale values), for a copy of fixed length.
+    #[inline(always)]
+    pub fn slots(&self, o: usize) -> (&[u32], usize) {
+        let start = o * self.cap;
+        (&self.slots[start..start + self.cap], self.count[o] as usize)
+    }
+
     /// Appends `v` to owner `o`'s run; returns its slot in the run.
     #[inline]
     pub fn push(&mut self, o: usize, v: u32) -> usize {

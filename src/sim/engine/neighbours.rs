@@ -1,10 +1,27 @@
 //! Sphere `i`'s neighbours: its list rebuilt from the cells around its shell centre at its
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
 //! one at a time; the two earliest are kept (`predict_pairs`).
+//!
+//! The loops that load other spheres' records have no branch on what they load: a random
+//! branch (is this pair approaching? how many spheres has this cell?) is mispredicted about
+//! half the time, and each miss throws away the loads in flight. So each stage is two
+//! passes: one that loads everything and writes what passes into a scratch array by an index
+//! it advances by the test's outcome, then one over what passed (docs/benchmarks.md,
+//! "Loops without data branches").
 
 use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Kept, arrival};
+
+/// An approaching neighbour's relative motion from now, written by a prediction's first pass
+/// for its second, the kernel.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Approach {
+    r0: DVec3,
+    v: DVec3,
+    d: f64,
+    j: u32,
+}
 
 /// The latest time a merge may keep from a list and its completeness: anything for a complete
 /// list; for an incomplete one, no later than its last kept candidate (what it left out is
@@ -51,8 +68,9 @@ impl<
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
-    /// `fresh` holds, new to it at its shell event) and whether there were no others: each
-    /// approaching neighbour is answered in f64, one at a time.
+    /// `fresh` holds, new to it at its shell event) and whether there were no others: every
+    /// entry's relative motion is computed and the approaching ones are written to `near`
+    /// (with no branch), then each of those is answered in f64, one at a time.
     pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
         let bi = self.m.bodies[i as usize];
         let list = if fresh_only {
@@ -61,8 +79,11 @@ impl<
             self.lists.of(i)
         };
         let now = self.now;
-        let mut kept = Kept::default();
-        let mut count = 0u64;
+        let mut near = std::mem::take(&mut self.near);
+        if near.len() < list.len() {
+            near.resize(list.len(), Approach::default());
+        }
+        let mut count = 0usize;
         for &e in list {
             let (j, code) = split(e);
             let bj = &self.m.bodies[j as usize];
@@ -83,20 +104,22 @@ impl<
                 keep &= !(q < d2 * (1.0 - 1e-9)
                     || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
             }
-            if !keep {
-                continue;
-            }
-            count += 1;
-            let t = arrival(r0, v, d);
+            near[count] = Approach { r0, v, d, j };
+            count += usize::from(keep);
+        }
+        let mut kept = Kept::default();
+        for a in &near[..count] {
+            let t = arrival(a.r0, a.v, a.d);
             if t.is_finite() {
                 kept.add(Candidate {
                     t: now + t,
-                    j,
-                    counter: self.m.counter[j as usize],
+                    j: a.j,
+                    counter: self.m.counter[a.j as usize],
                 });
             }
         }
-        self.stats.kernels.sphere += count;
+        self.near = near;
+        self.stats.kernels.sphere += count as u64;
         kept.result()
     }
 
@@ -147,68 +170,92 @@ impl<
     /// `dᵢⱼ + reach` of `i`'s, from the 27 cells around `i`'s, into the first entries of
     /// `found`; returns how many. The test
     /// computes `(cⱼ − cᵢ) + shift`, the exact negative of what `j` computes for `i`, so the
-    /// lists are symmetric to the bit.
+    /// lists are symmetric to the bit. Two passes with no branch on the data: the members of
+    /// the 27 cells are copied out (`cells_near`), then each is tested.
     fn within_reach(&mut self, i: u32, ci: [i32; 3]) -> usize {
-        let mut found = std::mem::take(&mut self.found);
-        let n = self.cells.n;
+        let candidates = self.cells_near(i, ci);
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];
         let reach = self.lists.reach;
-        // Room for every member of 27 full cells, once.
-        let room = 27 * self.cells.cell_capacity();
-        if found.len() < room {
-            found.resize(room, 0);
-        }
-        // Every member is written and only those within reach are counted: no branch to
-        // mispredict, so the members' loads overlap. Sphere `i` itself is counted too, and
-        // taken out after: it is there once, under the code of no shift. Its images are a box
-        // length away, and a periodic box is at least three largest diameters
-        // (`assemble.rs`), more than `2rᵢ + reach` (at most two, and the margins); an open
-        // domain has no images.
-        let mut len = 0;
-        let mut scan = |members: &[u32], code: u8, shift: DVec3| {
-            for &j in members {
-                let sj = &centre[j as usize];
-                let dr = (sj.c - si.c) + shift;
-                let d = si.radius + sj.radius + reach;
-                found[len] = entry(j, code);
-                len += usize::from(dr.length_squared() <= d * d);
-            }
-        };
-        let Stencil { gap, coord, shift } = self.stencil.around(&self.cells, ci, si.c);
-        let far = self.lists.far * self.lists.far;
-        let (nx, ny) = (n[0] as usize, n[1] as usize);
-        for z in 0..3 {
-            let gz = gap[2][z];
-            if coord[2][z] < 0 || gz > far {
-                continue;
-            }
-            for y in 0..3 {
-                let gyz = gz + gap[1][y];
-                if coord[1][y] < 0 || gyz > far {
-                    continue;
-                }
-                let row = (coord[2][z] as usize * ny + coord[1][y] as usize) * nx;
-                for x in 0..3 {
-                    if coord[0][x] < 0 || gyz + gap[0][x] > far {
-                        continue;
-                    }
-                    let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
-                    let members = self.cells.members(row + coord[0][x] as usize);
-                    scan(members, code, self.shift[usize::from(code)]);
-                }
-            }
-        }
         let own = entry(i, NO_SHIFT);
-        // (Not found only where its centre is not finite: a damaged state the checks refuse.)
-        if let Some(k) = found[..len].iter().position(|&e| e == own) {
-            found.swap(k, len - 1);
-            len -= 1;
+        let mut found = std::mem::take(&mut self.found);
+        if found.len() < candidates {
+            found.resize(candidates, 0);
+        }
+        // Sphere `i` is there once, under the code of no shift, and is not counted. Its
+        // images are a box length away, and a periodic box is at least three largest
+        // diameters (`assemble.rs`), more than `2rᵢ + reach` (at most two, and the margins);
+        // an open domain has no images.
+        let mut len = 0;
+        for (&j, &code) in self.gathered[..candidates].iter().zip(&self.codes) {
+            let e = entry(j, code);
+            let sj = &centre[j as usize];
+            let dr = (sj.c - si.c) + self.shift[usize::from(code)];
+            let d = si.radius + sj.radius + reach;
+            found[len] = e;
+            len += usize::from((dr.length_squared() <= d * d) & (e != own));
         }
         self.found = found;
         len
     }
+
+    /// Copies the members of the 27 cells around sphere `i`'s shell centre (in cell `ci`)
+    /// into `gathered`, and their image's shift code into `codes`; returns how many. A cell
+    /// that cannot hold a centre within reach is copied too, but not counted (the next copy
+    /// overwrites it): eight slots are copied whatever a cell holds, so the loop has no branch
+    /// on the cells' contents.
+    fn cells_near(&mut self, i: u32, ci: [i32; 3]) -> usize {
+        let cap = self.cells.cell_capacity();
+        // Room for every member of 27 full cells, and one more copy of eight.
+        let room = 27 * cap + RUN_COPY;
+        if self.gathered.len() < room {
+            self.gathered.resize(room, 0);
+            self.codes.resize(room, 0);
+        }
+        let si = self.lists.centre[i as usize];
+        let Stencil { gap, coord, shift } = self.stencil.around(&self.cells, ci, si.c);
+        let far = self.lists.far * self.lists.far;
+        let (nx, ny) = (self.cells.n[0] as usize, self.cells.n[1] as usize);
+        let (cells, gathered, codes) = (
+            &self.cells,
+            &mut self.gathered[..room],
+            &mut self.codes[..room],
+        );
+        let mut len = 0;
+        for z in 0..3 {
+            for y in 0..3 {
+                for x in 0..3 {
+                    // A cell beyond an open domain's edge (coordinate −1), or farther than
+                    // the widest reach, holds nobody within reach: its copy (of cell 0
+                    // instead, beyond an edge) is not counted.
+                    let (cx, cy, cz) = (coord[0][x], coord[1][y], coord[2][z]);
+                    let near = ((cx | cy | cz) >= 0) & (gap[2][z] + gap[1][y] + gap[0][x] <= far);
+                    let [cx, cy, cz] = [cx, cy, cz].map(|c| c.max(0) as usize);
+                    let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
+                    let (slots, count) = cells.slots((cz * ny + cy) * nx + cx);
+                    // Eight slots and their code, at once; `len` is at most 26 cells' worth.
+                    let (to, to_codes) = (
+                        &mut gathered[len..len + RUN_COPY],
+                        &mut codes[len..len + RUN_COPY],
+                    );
+                    to.copy_from_slice(&slots[..RUN_COPY]);
+                    to_codes.fill(code);
+                    if count > RUN_COPY {
+                        // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
+                        for k in RUN_COPY..count {
+                            (gathered[len + k], codes[len + k]) = (slots[k], code);
+                        }
+                    }
+                    len += usize::from(near) * count;
+                }
+            }
+        }
+        len
+    }
 }
+
+/// Slots of a cell copied at once: the cells' least capacity (`Cells::new`).
+const RUN_COPY: usize = 8;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
 struct Stencil {
