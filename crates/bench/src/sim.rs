@@ -143,8 +143,9 @@ pub fn measure(world: World, collisions: u64) -> Rate {
 }
 
 /// The peer's collisions per second at `n`, `phi` for about `collisions` collisions: builds and
-/// runs `scripts/edmd_peer.sh EDMD_DIR N PHI auto` (gcc `-Ofast -march=native`, pinned to one
-/// core). An error says why (no checkout, no gcc, a failed build).
+/// runs `scripts/edmd_peer.sh EDMD_DIR N PHI auto` (gcc `-Ofast -march=native`), pinned to the
+/// core this thread last ran on, where our own measurement just ran (the two cores of a shared
+/// host can differ by 5 % or more). An error says why (no checkout, no gcc, a failed build).
 ///
 /// ```
 /// use std::path::Path;
@@ -161,6 +162,7 @@ pub fn peer_rate(edmd_dir: &Path, n: usize, phi: f64, collisions: u64) -> Result
         .arg(phi.to_string())
         .arg("auto")
         .env("EDMD_COLLISIONS", collisions.to_string())
+        .envs(current_cpu().map(|cpu| ("EDMD_CPU", cpu.to_string())))
         .output()
         .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
     if !out.status.success() {
@@ -178,6 +180,20 @@ pub fn peer_rate(edmd_dir: &Path, n: usize, phi: f64, collisions: u64) -> Result
         .nth(2)
         .and_then(|r| r.parse().ok())
         .ok_or_else(|| format!("unexpected peer output: {text:?}"))
+}
+
+/// The core this thread last ran on (Linux: field 39 of `/proc/thread-self/stat`), if known.
+///
+/// ```
+/// if let Some(cpu) = spheresweep_bench::sim::current_cpu() {
+///     assert!(cpu < 4096); // one of this machine's cores
+/// }
+/// ```
+pub fn current_cpu() -> Option<usize> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    let rest = &stat[stat.rfind(')')? + 1..];
+    rest.split_whitespace().nth(39 - 3)?.parse().ok()
 }
 
 /// Peak resident memory of this process in bytes (Linux `VmHWM`), if known.
