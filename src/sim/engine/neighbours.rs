@@ -9,18 +9,44 @@
 //! it advances by the test's outcome, then one over what passed (docs/benchmarks.md,
 //! "Loops without data branches").
 
+use wide::f64x4;
+
 use super::lists::{NO_SHIFT, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Kept, arrival};
 
 /// An approaching neighbour's relative motion from now, written by a prediction's first pass
-/// for its second, the kernel.
+/// for its second, the kernel: `r0` and `v` in the first three lanes, the contact distance in
+/// the fourth lane of `v`.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Approach {
-    r0: DVec3,
-    v: DVec3,
-    d: f64,
+    r0: f64x4,
+    v: f64x4,
     j: u32,
+}
+
+/// The periodic shift of each list entry's code in lanes of four, the fourth zero.
+pub(super) type ShiftLanes = [f64x4; super::lists::SHIFT_ROWS];
+
+/// The shift table in lanes of four.
+pub(super) fn shift_lanes(shift: [DVec3; super::lists::SHIFT_ROWS]) -> ShiftLanes {
+    shift.map(|s| f64x4::new([s.x, s.y, s.z, 0.0]))
+}
+
+/// A body as two lanes of four, as it lies in memory: centre and time, velocity and radius.
+#[inline(always)]
+fn lanes(b: &Trajectory) -> (f64x4, f64x4) {
+    (
+        f64x4::new([b.r.x, b.r.y, b.r.z, b.t]),
+        f64x4::new([b.v.x, b.v.y, b.v.z, b.radius]),
+    )
+}
+
+/// The first three lanes as a vector.
+#[inline(always)]
+fn xyz(l: f64x4) -> DVec3 {
+    let a = l.to_array();
+    DVec3::new(a[0], a[1], a[2])
 }
 
 /// The latest time a merge may keep from a list and its completeness: anything for a complete
@@ -83,33 +109,41 @@ impl<
         if near.len() < list.len() {
             near.resize(list.len(), Approach::default());
         }
+        // Lane by lane the same operations, in the same order, as on `DVec3`: the same bits.
+        // The fourth lanes carry `tⱼ` (unused), and the radii's sum `radiusⱼ − (−radiusᵢ)`, the
+        // contact distance, to the bit `radiusᵢ + radiusⱼ`.
+        let ri = f64x4::new([bi.r.x, bi.r.y, bi.r.z, 0.0]);
+        let vi = f64x4::new([bi.v.x, bi.v.y, bi.v.z, -bi.radius]);
+        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
         let mut count = 0usize;
         for &e in list {
             let (j, code) = split(e);
             let bj = &self.m.bodies[j as usize];
             let dt = now - bj.t;
-            let mut r0 = (bj.r - bi.r) + self.shift[usize::from(code)] + bj.v * dt;
-            let mut v = bj.v - bi.v;
+            let (rj, vj) = lanes(bj);
+            let mut r0 = (rj - ri) + self.shift_lanes[usize::from(code)] + vj * f64x4::splat(dt);
+            let mut v = vj - vi;
             if GRAVITY {
                 // Both fall alike: their relative motion from now on is a straight line.
-                r0 += self.m.g * (0.5 * dt * dt);
-                v += self.m.g * dt;
+                r0 += g * f64x4::splat(0.5 * dt * dt);
+                v += g * f64x4::splat(dt);
             }
-            let d = bi.radius + bj.radius;
             // Only an approaching pair (r0 · v < 0) can meet.
-            let mut keep = r0.dot(v) < 0.0;
+            let p = (r0 * v).to_array();
+            let mut keep = (p[0] + p[1]) + p[2] < 0.0;
             if R::REPORT_ONLY {
                 // A pair already in contact is not reported again.
-                let (q, d2) = (r0.length_squared(), d * d);
+                let d = v.to_array()[3];
+                let (q, d2) = (xyz(r0).length_squared(), d * d);
                 keep &= !(q < d2 * (1.0 - 1e-9)
                     || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
             }
-            near[count] = Approach { r0, v, d, j };
+            near[count] = Approach { r0, v, j };
             count += usize::from(keep);
         }
         let mut kept = Kept::default();
         for a in &near[..count] {
-            let t = arrival(a.r0, a.v, a.d);
+            let t = arrival(xyz(a.r0), xyz(a.v), a.v.to_array()[3]);
             if t.is_finite() {
                 kept.add(Candidate {
                     t: now + t,
