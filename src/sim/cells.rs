@@ -13,6 +13,10 @@ use super::runs::Runs;
 /// "No sphere".
 pub(crate) const NONE: u32 = u32::MAX;
 
+/// Slots every cell has at least (the runs grow past it, never below): a rebuild copies this
+/// many of a cell's slots at once.
+pub(crate) const LEAST_CAPACITY: usize = 8;
+
 /// The grid and its cell arrays.
 #[derive(Debug, Clone)]
 pub(crate) struct Cells {
@@ -58,7 +62,7 @@ impl Cells {
             lo,
             w,
             len: extent,
-            runs: Runs::new(cells, 8),
+            runs: Runs::new(cells, LEAST_CAPACITY),
         }
     }
 

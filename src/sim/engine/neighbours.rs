@@ -288,8 +288,8 @@ impl<
     }
 }
 
-/// Slots of a cell copied at once: the cells' least capacity (`Cells::new`).
-const RUN_COPY: usize = 8;
+/// Slots of a cell copied at once: every cell has that many.
+const RUN_COPY: usize = crate::sim::cells::LEAST_CAPACITY;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
 struct Stencil {
