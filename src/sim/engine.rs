@@ -96,10 +96,9 @@ pub(crate) struct Engine<
     pub cells: Cells,
     /// Each sphere's neighbour list and shell centre.
     lists: NeighbourLists,
-    /// The periodic shift of each list entry's shift code, and the same in lanes of four (the
-    /// fourth zero) for the prediction.
-    shift: [DVec3; lists::SHIFT_ROWS],
-    shift_lanes: neighbours::ShiftLanes,
+    /// The periodic shift of each list entry's shift code, in lanes of four (the fourth zero;
+    /// `shift_of` reads one as a vector).
+    shift: neighbours::ShiftLanes,
     /// The cells around each cell, per axis (`neighbours.rs`).
     stencil: neighbours::StencilTable,
     queue: Calendar,
@@ -212,8 +211,7 @@ impl<
             .collect();
         let mut e = Self {
             lists: NeighbourLists::new(delta, centres),
-            shift: lists::shifts(cells.len, PERIODIC),
-            shift_lanes: neighbours::shift_lanes(lists::shifts(cells.len, PERIODIC)),
+            shift: neighbours::shift_lanes(lists::shifts(cells.len, PERIODIC)),
             stencil: neighbours::StencilTable::new(&cells, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             best: vec![Best::default(); n],

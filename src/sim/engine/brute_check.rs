@@ -130,7 +130,7 @@ impl<
             for j in i + 1..n {
                 for &code in codes {
                     let (si, sj) = (l.centre[i], l.centre[j]);
-                    let dr = (sj.c - si.c) + self.shift[usize::from(code)];
+                    let dr = (sj.c - si.c) + self.shift_of(code);
                     let d = si.radius + sj.radius + l.reach;
                     if dr.length_squared() > d * d {
                         continue;

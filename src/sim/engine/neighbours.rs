@@ -93,6 +93,12 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
+    /// The periodic shift of shift code `code`.
+    #[inline(always)]
+    pub(super) fn shift_of(&self, code: u8) -> DVec3 {
+        xyz(self.shift[usize::from(code)])
+    }
+
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
     /// `fresh` holds, new to it at its shell event) and whether there were no others: every
     /// entry's relative motion is computed and the approaching ones are written to `near`
@@ -121,7 +127,7 @@ impl<
             let bj = &self.m.bodies[j as usize];
             let dt = now - bj.t;
             let (rj, vj) = lanes(bj);
-            let mut r0 = (rj - ri) + self.shift_lanes[usize::from(code)] + vj * f64x4::splat(dt);
+            let mut r0 = (rj - ri) + self.shift[usize::from(code)] + vj * f64x4::splat(dt);
             let mut v = vj - vi;
             if GRAVITY {
                 // Both fall alike: their relative motion from now on is a straight line.
@@ -224,7 +230,7 @@ impl<
         for (&j, &code) in self.gathered[..candidates].iter().zip(&self.codes) {
             let e = entry(j, code);
             let sj = &centre[j as usize];
-            let dr = (sj.c - si.c) + self.shift[usize::from(code)];
+            let dr = (sj.c - si.c) + self.shift_of(code);
             let d = si.radius + sj.radius + reach;
             found[len] = e;
             len += usize::from((dr.length_squared() <= d * d) & (e != own));
