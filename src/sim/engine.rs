@@ -96,8 +96,7 @@ pub(crate) struct Engine<
     pub cells: Cells,
     /// Each sphere's neighbour list and shell centre.
     lists: NeighbourLists,
-    /// The periodic shift of each list entry's shift code, in lanes of four (the fourth zero;
-    /// `shift_of` reads one as a vector).
+    /// The periodic shift of each list entry's shift code, in lanes of four (the fourth zero).
     shift: neighbours::ShiftLanes,
     /// The cells around each cell, per axis (`neighbours.rs`).
     stencil: neighbours::StencilTable,
@@ -110,7 +109,6 @@ pub(crate) struct Engine<
     /// A rebuild's entries from the cells near, those within reach, and those of them new
     /// to the sphere.
     gathered: Vec<u32>,
-    codes: Vec<u8>,
     found: Vec<u32>,
     fresh: Vec<u32>,
     /// A rebuild's copy of the list it replaces.
@@ -223,7 +221,6 @@ impl<
             stats: Stats::default(),
             log: log.then(Vec::new),
             gathered: Vec::new(),
-            codes: Vec::new(),
             found: Vec::new(),
             fresh: Vec::new(),
             old: Vec::new(),
@@ -636,7 +633,6 @@ impl<
             + self.queue.bytes()
             + self.lists.bytes()
             + b(&self.gathered)
-            + b(&self.codes)
             + b(&self.found)
             + b(&self.near)
             + b(&self.fresh)

@@ -10,6 +10,12 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
+    /// The periodic shift of shift code `code`, as a vector.
+    fn shift_of(&self, code: u8) -> DVec3 {
+        let [x, y, z, _] = self.shift[usize::from(code)].to_array();
+        DVec3::new(x, y, z)
+    }
+
     /// Test-only: after the event of sphere `s`, no pair of spheres (any image) comes closer
     /// than the overlap tolerance before the earlier of their two pending events, and no
     /// sphere gets through a static shape before its own — checked by brute force in f64 from

@@ -16,7 +16,7 @@ use crate::sim::runs::Runs;
 pub(crate) const NO_SHIFT: u8 = 13;
 
 /// Bits of an entry that hold the shift code.
-const CODE_BITS: u32 = 5;
+pub(crate) const CODE_BITS: u32 = 5;
 
 /// The most spheres a list entry can name.
 pub(crate) const MAX_SPHERES: usize = 1 << (32 - CODE_BITS);

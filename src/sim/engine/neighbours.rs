@@ -9,9 +9,9 @@
 //! it advances by the test's outcome, then one over what passed (docs/benchmarks.md,
 //! "Loops without data branches").
 
-use wide::f64x4;
+use wide::{f64x4, u32x4, u32x8};
 
-use super::lists::{NO_SHIFT, entry, mirror, split};
+use super::lists::{CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Kept, arrival};
 
@@ -40,6 +40,12 @@ fn lanes(b: &Trajectory) -> (f64x4, f64x4) {
         f64x4::new([b.r.x, b.r.y, b.r.z, b.t]),
         f64x4::new([b.v.x, b.v.y, b.v.z, b.radius]),
     )
+}
+
+/// A shell centre and its radius as lanes of four, as they lie in memory.
+#[inline(always)]
+fn shell_lanes(s: &Shell) -> f64x4 {
+    f64x4::new([s.c.x, s.c.y, s.c.z, s.radius])
 }
 
 /// The first three lanes as a vector.
@@ -93,12 +99,6 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
-    /// The periodic shift of shift code `code`.
-    #[inline(always)]
-    pub(super) fn shift_of(&self, code: u8) -> DVec3 {
-        xyz(self.shift[usize::from(code)])
-    }
-
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
     /// `fresh` holds, new to it at its shell event) and whether there were no others: every
     /// entry's relative motion is computed and the approaching ones are written to `near`
@@ -210,37 +210,62 @@ impl<
     /// `dᵢⱼ + reach` of `i`'s, from the 27 cells around `i`'s, into the first entries of
     /// `found`; returns how many. The test
     /// computes `(cⱼ − cᵢ) + shift`, the exact negative of what `j` computes for `i`, so the
-    /// lists are symmetric to the bit. Two passes with no branch on the data: the members of
-    /// the 27 cells are copied out (`cells_near`), then each is tested.
+    /// lists are symmetric to the bit. Two passes with no branch on the data: the entries of
+    /// the 27 cells are copied out (`cells_near`), then each is tested, in lanes of four.
     fn within_reach(&mut self, i: u32, ci: [i32; 3]) -> usize {
         let candidates = self.cells_near(i, ci);
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];
-        let reach = self.lists.reach;
+        // Lane by lane the operations of `(cⱼ − cᵢ) + shift` on vectors, in the same order:
+        // the fourth lane is `radiusⱼ − (−radiusᵢ)`, to the bit `radiusᵢ + radiusⱼ` (and the
+        // shift's fourth lane is zero).
+        let ci_lanes = f64x4::new([si.c.x, si.c.y, si.c.z, -si.radius]);
+        let reach = f64x4::splat(self.lists.reach);
         let own = entry(i, NO_SHIFT);
+        // Four candidates at a time: `gathered` has room past the last (`cells_near`), and
+        // the lanes past it are not counted.
+        let rounded = candidates.next_multiple_of(4);
         let mut found = std::mem::take(&mut self.found);
-        if found.len() < candidates {
-            found.resize(candidates, 0);
+        if found.len() < rounded {
+            found.resize(rounded, 0);
         }
         // Sphere `i` is there once, under the code of no shift, and is not counted. Its
         // images are a box length away, and a periodic box is at least three largest
         // diameters (`assemble.rs`), more than `2rᵢ + reach` (at most two, and the margins);
         // an open domain has no images.
         let mut len = 0;
-        for (&j, &code) in self.gathered[..candidates].iter().zip(&self.codes) {
-            let e = entry(j, code);
-            let sj = &centre[j as usize];
-            let dr = (sj.c - si.c) + self.shift_of(code);
-            let d = si.radius + sj.radius + reach;
-            found[len] = e;
-            len += usize::from((dr.length_squared() <= d * d) & (e != own));
+        for (at, four) in self.gathered[..rounded]
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .enumerate()
+        {
+            let relative = |k: usize| {
+                let (j, code) = split(four[k]);
+                (shell_lanes(&centre[j as usize]) - ci_lanes) + self.shift[usize::from(code)]
+            };
+            let dr = [relative(0), relative(1), relative(2), relative(3)];
+            // The same sums as `DVec3::length_squared`, four pairs at once.
+            let [x, y, z, sum] = f64x4::transpose(dr);
+            let d = sum + reach;
+            let within = (x * x + y * y + z * z).simd_le(d * d).to_bitmask();
+            let own_lane = u32x4::new(*four).simd_eq(u32x4::splat(own)).to_bitmask();
+            let within = within & !own_lane & ((1 << (candidates - 4 * at).min(4)) - 1);
+            // Each entry written after the last one kept, kept by advancing past it.
+            let out = &mut found[len..len + 4];
+            let mut kept = 0;
+            for (k, &e) in four.iter().enumerate() {
+                out[kept] = e;
+                kept += (within >> k & 1) as usize;
+            }
+            len += kept;
         }
         self.found = found;
         len
     }
 
     /// Copies the members of the 27 cells around sphere `i`'s shell centre (in cell `ci`)
-    /// into `gathered`, and their image's shift code into `codes`; returns how many. A cell
+    /// into `gathered` as list entries (with their image's shift code); returns how many. A cell
     /// that cannot hold a centre within reach is copied too, but not counted (the next copy
     /// overwrites it): eight slots are copied whatever a cell holds, so the loop has no branch
     /// on the cells' contents.
@@ -250,45 +275,27 @@ impl<
         let room = 27 * cap + RUN_COPY;
         if self.gathered.len() < room {
             self.gathered.resize(room, 0);
-            self.codes.resize(room, 0);
         }
         let si = self.lists.centre[i as usize];
-        let Stencil { gap, coord, shift } = self.stencil.around(&self.cells, ci, si.c);
         let far = self.lists.far * self.lists.far;
-        let (nx, ny) = (self.cells.n[0] as usize, self.cells.n[1] as usize);
-        let (cells, gathered, codes) = (
-            &self.cells,
-            &mut self.gathered[..room],
-            &mut self.codes[..room],
-        );
+        let stencil = self.stencil.around(&self.cells, ci, si.c);
+        let (cells, gathered) = (&self.cells, &mut self.gathered[..room]);
         let mut len = 0;
-        for z in 0..3 {
-            for y in 0..3 {
-                for x in 0..3 {
-                    // A cell beyond an open domain's edge (coordinate −1), or farther than
-                    // the widest reach, holds nobody within reach: its copy (of cell 0
-                    // instead, beyond an edge) is not counted.
-                    let (cx, cy, cz) = (coord[0][x], coord[1][y], coord[2][z]);
-                    let near = ((cx | cy | cz) >= 0) & (gap[2][z] + gap[1][y] + gap[0][x] <= far);
-                    let [cx, cy, cz] = [cx, cy, cz].map(|c| c.max(0) as usize);
-                    let code = shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z];
-                    let (slots, count) = cells.slots((cz * ny + cy) * nx + cx);
-                    // Eight slots and their code, at once; `len` is at most 26 cells' worth.
-                    let (to, to_codes) = (
-                        &mut gathered[len..len + RUN_COPY],
-                        &mut codes[len..len + RUN_COPY],
-                    );
-                    to.copy_from_slice(&slots[..RUN_COPY]);
-                    to_codes.fill(code);
-                    if count > RUN_COPY {
-                        // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
-                        for k in RUN_COPY..count {
-                            (gathered[len + k], codes[len + k]) = (slots[k], code);
-                        }
-                    }
-                    len += usize::from(near) * count;
+        for StencilCell { cell, code, near } in stencil.cells(cells, far) {
+            let (slots, count) = cells.slots(cell);
+            // Eight slots as entries (`entry`, lane by lane), at once; `len` is at most 26
+            // cells' worth.
+            let run = &slots[..RUN_COPY];
+            let run = u32x8::new(std::array::from_fn(|k| run[k]));
+            let entries = (run << CODE_BITS) | u32x8::splat(u32::from(code));
+            gathered[len..len + RUN_COPY].copy_from_slice(entries.as_array());
+            if count > RUN_COPY {
+                // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
+                for k in RUN_COPY..count {
+                    gathered[len + k] = entry(slots[k], code);
                 }
             }
+            len += near * count;
         }
         len
     }
@@ -307,6 +314,36 @@ struct Stencil {
     coord: [[i32; 3]; 3],
     /// The shift digit: 0, 1, 2 for −1, 0, +1 box lengths.
     shift: [[u8; 3]; 3],
+}
+
+/// One of the 27 cells around a shell centre: its index, the shift code of its image, and
+/// whether it can hold a centre within reach (1) or not (0).
+struct StencilCell {
+    cell: usize,
+    code: u8,
+    near: usize,
+}
+
+impl Stencil {
+    /// The 27 cells, `z` slowest. A cell beyond an open domain's edge (coordinate −1), or
+    /// farther than the widest reach (`far`, squared), holds nobody within reach: it is not
+    /// near (and stands for cell 0, beyond an edge).
+    #[inline(always)]
+    fn cells(&self, cells: &Cells, far: f64) -> [StencilCell; 27] {
+        let Stencil { gap, coord, shift } = self;
+        let (nx, ny) = (cells.n[0] as usize, cells.n[1] as usize);
+        std::array::from_fn(|k| {
+            let (x, y, z) = (k % 3, k / 3 % 3, k / 9);
+            let (cx, cy, cz) = (coord[0][x], coord[1][y], coord[2][z]);
+            let near = ((cx | cy | cz) >= 0) & (gap[2][z] + gap[1][y] + gap[0][x] <= far);
+            let [cx, cy, cz] = [cx, cy, cz].map(|c| c.max(0) as usize);
+            StencilCell {
+                cell: (cz * ny + cy) * nx + cx,
+                code: shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z],
+                near: usize::from(near),
+            }
+        })
+    }
 }
 
 /// Each axis's neighbour coordinates and shift digits, per cell coordinate, made once for the
