@@ -8,7 +8,7 @@
 //! Why `Stable` keeps its digits: docs/derivations/accuracy.md.
 
 use crate::contact::Side;
-use crate::lanes::{F64x1, Lanes, V3, cross_fused, dot, dot_fused};
+use crate::lanes::{Lanes, V3, cross_fused, dot, dot_fused};
 
 /// The seed's quantities of one pair kind, lane-wise, in the two forms the solvers use.
 pub trait Relative<L: Lanes> {
@@ -271,81 +271,5 @@ impl Solver for Stable {
         };
         let t = L::select(hit & t.le(t_max), t, L::splat(f32::INFINITY));
         (t, risk)
-    }
-}
-
-impl Stable {
-    /// One sphere pair's earliest exterior contact time in f64 (`+∞` for none), with branches
-    /// where the lanes select: the same coefficients (`stable` on one lane) and the same root
-    /// `C / (√q − b)`, so the same bits as a lane of `f64x4` (test
-    /// `one_pair_answers_as_each_lane_of_four`). The event-driven engine answers its
-    /// neighbours one at a time with it (docs/derivations/simulation.md, "Prediction in f64").
-    #[inline(always)]
-    pub fn exterior_one(rel: &Relative3<F64x1>) -> f64 {
-        let (a, b, c, q) = rel.stable();
-        let (a, b, c, q) = (a.0, b.0, c.0, q.0);
-        if !(a > 0.0 && b < 0.0) {
-            f64::INFINITY
-        } else if c <= 0.0 {
-            0.0
-        } else if q >= 0.0 {
-            c / (q.sqrt() - b)
-        } else {
-            f64::INFINITY
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::rng::Rng;
-    use wide::f64x4;
-
-    /// A pair's answer on one lane, by `arrival` and by `exterior_one`, is its lane of the
-    /// four-lane answer, bit for bit, over random pairs near and far from touching,
-    /// approaching and receding, overlapping and at rest.
-    #[test]
-    fn one_pair_answers_as_each_lane_of_four() {
-        let mut rng = Rng::new(11);
-        let mut hits = 0;
-        for _ in 0..20_000 {
-            let pairs: [([f64; 3], [f64; 3], f64); 4] = std::array::from_fn(|_| {
-                let d = 0.2 + rng.unit();
-                let n = rng.direction();
-                let gap = d * (rng.unit() - 0.05) * 10f64.powf(-8.0 * rng.unit());
-                let mut v = rng.direction() * 10f64.powf(2.0 * rng.unit() - 1.0);
-                if rng.unit() < 0.02 {
-                    v *= 0.0;
-                }
-                ((n * (d + gap)).to_array(), v.to_array(), d)
-            });
-            let four = Relative3 {
-                r0: std::array::from_fn(|k| f64x4::new(pairs.map(|p| p.0[k]))),
-                v: std::array::from_fn(|k| f64x4::new(pairs.map(|p| p.1[k]))),
-                d: f64x4::new(pairs.map(|p| p.2)),
-            };
-            let inf = f64::INFINITY;
-            let (t4, _) = Stable::arrival(&four, Side::Exterior, f64x4::splat(inf));
-            for (lane, (r0, v, d)) in pairs.into_iter().enumerate() {
-                let one = Relative3 {
-                    r0: r0.map(F64x1),
-                    v: v.map(F64x1),
-                    d: F64x1(d),
-                };
-                let t = t4.to_array()[lane];
-                let (t1, _) = Stable::arrival(&one, Side::Exterior, F64x1(inf));
-                assert_eq!(
-                    t1.0.to_bits(),
-                    t.to_bits(),
-                    "{r0:?} {v:?} {d}: {} {t}",
-                    t1.0
-                );
-                let t1 = Stable::exterior_one(&one);
-                assert_eq!(t1.to_bits(), t.to_bits(), "{r0:?} {v:?} {d}: {t1} {t}");
-                hits += usize::from(t.is_finite());
-            }
-        }
-        assert!(hits > 10_000, "too few contacts to compare: {hits}");
     }
 }

@@ -1,15 +1,15 @@
-//! Pair prediction, one neighbour at a time in f64: the engine computes each approaching
-//! neighbour's relative position and velocity (in f64 at the current time, so they are small
-//! numbers), [`arrival`] answers it with the `Stable` sphere-pair kernel for one pair, and
-//! [`Kept`] keeps the two earliest contacts. Every event time is an f64 root of the same formula
-//! the batch kernels use, to the bit. Why f64 and not an f32 screen, and why one at a time and
-//! not four (the lists are short): docs/derivations/simulation.md, "Prediction in f64".
+//! Pair prediction in f64: the engine computes each approaching neighbour's relative position
+//! and velocity (in f64 at the current time, so they are small numbers), [`arrivals`] answers
+//! four of them at once with the `Stable` sphere-pair kernel on `f64x4` lanes, and [`Kept`]
+//! keeps the two earliest contacts. Every event time is an f64 root of the same formula the
+//! batch kernels use: the same code. Why f64 and not an f32 screen:
+//! docs/derivations/simulation.md, "Prediction in f64".
 
-use glam::DVec3;
+use wide::f64x4;
 
 use super::cells::NONE;
-use crate::kernels::quadratic::{Relative3, Stable};
-use crate::lanes::F64x1;
+use crate::contact::Side;
+use crate::kernels::quadratic::{Relative3, Solver, Stable};
 
 /// A predicted pair contact: when, with whom, and the partner's counter at the prediction (the
 /// prediction is stale once the partner's velocity has changed).
@@ -33,16 +33,22 @@ impl Candidate {
     }
 }
 
-/// The earliest exterior contact time from now of a pair at `r0`, moving at `v`, relative to
-/// each other, with contact distance `d`: the `Stable` sphere-pair kernel for one pair in f64
-/// (`+∞` for none).
+/// The earliest exterior contact times from now of four pairs (`+∞` for none), one a lane:
+/// pair `k` is at `r0[k]`, moving at `v[k]`, relative to each other, in the first three lanes,
+/// with its contact distance in the fourth lane of `v[k]` (the fourth of `r0[k]` is ignored).
+/// They are transposed into the `Stable` sphere-pair kernel's lanes. Also the mask of the
+/// finite times (bit `k` for pair `k`).
 #[inline(always)]
-pub(crate) fn arrival(r0: DVec3, v: DVec3, d: f64) -> f64 {
-    Stable::exterior_one(&Relative3 {
-        r0: r0.to_array().map(F64x1),
-        v: v.to_array().map(F64x1),
-        d: F64x1(d),
-    })
+pub(crate) fn arrivals(r0: [f64x4; 4], v: [f64x4; 4]) -> ([f64; 4], u32) {
+    let [x, y, z, _] = f64x4::transpose(r0);
+    let [vx, vy, vz, d] = f64x4::transpose(v);
+    let rel = Relative3 {
+        r0: [x, y, z],
+        v: [vx, vy, vz],
+        d,
+    };
+    let (t, _) = Stable::arrival(&rel, Side::Exterior, f64x4::splat(f64::INFINITY));
+    (t.to_array(), t.is_finite().to_bitmask())
 }
 
 /// The two earliest contacts answered so far, and how many contacts there were.
@@ -84,6 +90,18 @@ impl Kept {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+    use glam::DVec3;
+
+    /// One pair's answer: lane 0 of [`arrivals`], the other lanes at rest.
+    fn arrival(r0: DVec3, v: DVec3, d: f64) -> f64 {
+        let lanes = |a: DVec3, w: f64| f64x4::new([a.x, a.y, a.z, w]);
+        let rest = f64x4::splat(0.0);
+        arrivals(
+            [lanes(r0, 0.0), rest, rest, rest],
+            [lanes(v, d), rest, rest, rest],
+        )
+        .0[0]
+    }
 
     /// The two earliest contacts kept from these neighbours, as `predict_pairs` keeps them
     /// (receding pairs skipped).

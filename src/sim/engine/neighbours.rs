@@ -13,7 +13,7 @@ use wide::{f64x4, u32x4, u32x8};
 
 use super::lists::{CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
 use super::*;
-use crate::sim::predict::{Kept, arrival};
+use crate::sim::predict::{Kept, arrivals};
 
 /// An approaching neighbour's relative motion from now, written by a prediction's first pass
 /// for its second, the kernel: `r0` and `v` in the first three lanes, the contact distance in
@@ -112,8 +112,8 @@ impl<
         };
         let now = self.now;
         let mut near = std::mem::take(&mut self.near);
-        if near.len() < list.len() {
-            near.resize(list.len(), Approach::default());
+        if near.len() < list.len().next_multiple_of(4) {
+            near.resize(list.len().next_multiple_of(4), Approach::default());
         }
         // Lane by lane the same operations, in the same order, as on `DVec3`: the same bits.
         // The fourth lanes carry `tⱼ` (unused), and the radii's sum `radiusⱼ − (−radiusᵢ)`, the
@@ -147,14 +147,26 @@ impl<
             near[count] = Approach { r0, v, j };
             count += usize::from(keep);
         }
+        // Four approaching pairs at a time, transposed into the kernel's lanes (`near` has room
+        // past the last; the lanes past it are not counted).
         let mut kept = Kept::default();
-        for a in &near[..count] {
-            let t = arrival(xyz(a.r0), xyz(a.v), a.v.to_array()[3]);
-            if t.is_finite() {
+        for (at, four) in near[..count.next_multiple_of(4)]
+            .as_chunks::<4>()
+            .0
+            .iter()
+            .enumerate()
+        {
+            let [a0, a1, a2, a3] = four;
+            let (t, finite) = arrivals([a0.r0, a1.r0, a2.r0, a3.r0], [a0.v, a1.v, a2.v, a3.v]);
+            let mut hits = finite & ((1 << (count - 4 * at).min(4)) - 1);
+            while hits != 0 {
+                let k = hits.trailing_zeros() as usize;
+                hits &= hits - 1;
+                let j = four[k].j;
                 kept.add(Candidate {
-                    t: now + t,
-                    j: a.j,
-                    counter: self.m.counter[a.j as usize],
+                    t: now + t[k],
+                    j,
+                    counter: self.m.counter[j as usize],
                 });
             }
         }
