@@ -70,7 +70,8 @@ impl Cells {
     #[inline]
     pub fn coords_of(&self, p: DVec3) -> [i32; 3] {
         let q = (p - self.lo) / self.w;
-        [0, 1, 2].map(|k| (q[k].floor().clamp(-1.0, 1e9) as i32).clamp(0, self.n[k] - 1))
+        let axis = |k: usize| (q[k].floor().clamp(-1.0, 1e9) as i32).clamp(0, self.n[k] - 1);
+        [axis(0), axis(1), axis(2)]
     }
 
     #[inline]

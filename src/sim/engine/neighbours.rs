@@ -290,24 +290,43 @@ impl<
         }
         let si = self.lists.centre[i as usize];
         let far = self.lists.far * self.lists.far;
-        let stencil = self.stencil.around(&self.cells, ci, si.c);
+        let Stencil {
+            part,
+            code,
+            gap,
+            inside,
+        } = self.stencil.around(&self.cells, ci, si.c);
         let (cells, gathered) = (&self.cells, &mut self.gathered[..room]);
         let mut len = 0;
-        for StencilCell { cell, code, near } in stencil.cells(cells, far) {
-            let (slots, count) = cells.slots(cell);
-            // Eight slots as entries (`entry`, lane by lane), at once; `len` is at most 26
-            // cells' worth.
-            let run = &slots[..RUN_COPY];
-            let run = u32x8::new(std::array::from_fn(|k| run[k]));
-            let entries = (run << CODE_BITS) | u32x8::splat(u32::from(code));
-            gathered[len..len + RUN_COPY].copy_from_slice(entries.as_array());
-            if count > RUN_COPY {
-                // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
-                for k in RUN_COPY..count {
-                    gathered[len + k] = entry(slots[k], code);
+        for z in 0..3 {
+            for y in 0..3 {
+                // What a row's three cells share.
+                let row = part[2][z] + part[1][y];
+                let row_code = code[2][z] + code[1][y];
+                let row_gap = gap[2][z] + gap[1][y];
+                let row_inside = inside[2][z] & inside[1][y];
+                for x in 0..3 {
+                    // A cell beyond an open domain's edge, or farther than the widest reach,
+                    // holds nobody within reach: its copy (of cell 0 instead, beyond an edge)
+                    // is not counted.
+                    let near = row_inside & inside[0][x] & (row_gap + gap[0][x] <= far);
+                    let code = row_code + code[0][x];
+                    let (slots, count) = cells.slots(row + part[0][x]);
+                    // Eight slots as entries (`entry`, lane by lane), at once; `len` is at
+                    // most 26 cells' worth.
+                    let run = &slots[..RUN_COPY];
+                    let run = u32x8::new(std::array::from_fn(|k| run[k]));
+                    let entries = (run << CODE_BITS) | u32x8::splat(u32::from(code));
+                    gathered[len..len + RUN_COPY].copy_from_slice(entries.as_array());
+                    if count > RUN_COPY {
+                        // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
+                        for k in RUN_COPY..count {
+                            gathered[len + k] = entry(slots[k], code);
+                        }
+                    }
+                    len += usize::from(near) * count;
                 }
             }
-            len += near * count;
         }
         len
     }
@@ -316,79 +335,65 @@ impl<
 /// Slots of a cell copied at once: every cell has that many.
 const RUN_COPY: usize = crate::sim::cells::LEAST_CAPACITY;
 
-/// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1.
+/// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1: a cell's index,
+/// shift code, gap and whether it is inside the domain are sums (and) of its three axes' parts.
 struct Stencil {
+    /// The axis' part of the cell index: the wrapped coordinate times the axis' stride (0
+    /// outside an open domain: cell 0 stands in).
+    part: [[usize; 3]; 3],
+    /// The axis' part of the shift code: its digit (0, 1, 2 for −1, 0, +1 box lengths) times
+    /// 1, 3 or 9.
+    code: [[u8; 3]; 3],
     /// The squared distance from the centre to the neighbour cell's slab: a lower bound for
     /// any centre in it, or its image. A cell farther than the widest reach holds nobody within
     /// reach (`far` has a margin above the faces' rounding).
     gap: [[f64; 3]; 3],
-    /// The wrapped cell coordinate, −1 outside an open domain.
-    coord: [[i32; 3]; 3],
-    /// The shift digit: 0, 1, 2 for −1, 0, +1 box lengths.
-    shift: [[u8; 3]; 3],
+    /// Whether the axis' coordinate is inside the domain (always, periodic).
+    inside: [[bool; 3]; 3],
 }
 
-/// One of the 27 cells around a shell centre: its index, the shift code of its image, and
-/// whether it can hold a centre within reach (1) or not (0).
-struct StencilCell {
-    cell: usize,
-    code: u8,
-    near: usize,
+/// One axis' part of the stencil around a cell coordinate: the index parts, code parts and
+/// inside flags of offsets −1, 0, +1.
+#[derive(Debug, Clone, Copy, Default)]
+struct AxisPart {
+    part: [usize; 3],
+    code: [u8; 3],
+    inside: [bool; 3],
 }
 
-impl Stencil {
-    /// The 27 cells, `z` slowest. A cell beyond an open domain's edge (coordinate −1), or
-    /// farther than the widest reach (`far`, squared), holds nobody within reach: it is not
-    /// near (and stands for cell 0, beyond an edge).
-    #[inline(always)]
-    fn cells(&self, cells: &Cells, far: f64) -> [StencilCell; 27] {
-        let Stencil { gap, coord, shift } = self;
-        let (nx, ny) = (cells.n[0] as usize, cells.n[1] as usize);
-        std::array::from_fn(|k| {
-            let (x, y, z) = (k % 3, k / 3 % 3, k / 9);
-            let (cx, cy, cz) = (coord[0][x], coord[1][y], coord[2][z]);
-            let near = ((cx | cy | cz) >= 0) & (gap[2][z] + gap[1][y] + gap[0][x] <= far);
-            let [cx, cy, cz] = [cx, cy, cz].map(|c| c.max(0) as usize);
-            StencilCell {
-                cell: (cz * ny + cy) * nx + cx,
-                code: shift[0][x] + 3 * shift[1][y] + 9 * shift[2][z],
-                near: usize::from(near),
-            }
-        })
-    }
-}
-
-/// Each axis's neighbour coordinates and shift digits, per cell coordinate, made once for the
-/// grid: a rebuild looks its stencil up instead of wrapping nine coordinates.
+/// Each axis' stencil parts, per cell coordinate, made once for the grid: a rebuild looks its
+/// stencil up instead of wrapping nine coordinates.
 #[derive(Debug, Clone, Default)]
 pub(super) struct StencilTable {
-    axes: [Vec<([i32; 3], [u8; 3])>; 3],
+    axes: [Vec<AxisPart>; 3],
 }
 
 impl StencilTable {
     /// The table of `cells`, wrapping (`periodic`) or marking the cells beyond an open domain's
-    /// edge with −1.
+    /// edge as outside.
     pub(super) fn new(cells: &Cells, periodic: bool) -> Self {
+        let n = cells.n;
+        let stride = [1, n[0] as usize, n[0] as usize * n[1] as usize];
         let axes = [0, 1, 2].map(|k| {
-            let n = cells.n[k];
-            (0..n)
+            (0..n[k])
                 .map(|at| {
-                    let mut coord = [0i32; 3];
-                    let mut shift = [1u8; 3];
+                    let mut axis = AxisPart::default();
                     for (o, d) in (-1..=1).enumerate() {
-                        let mut c = at + d;
-                        if c < 0 || c >= n {
+                        let (mut c, mut digit, mut inside) = (at + d, 1u8, true);
+                        if c < 0 || c >= n[k] {
                             if periodic {
                                 let wrap = if c < 0 { 1 } else { -1 };
-                                c += wrap * n;
-                                shift[o] = (1 - wrap) as u8;
+                                c += wrap * n[k];
+                                digit = (1 - wrap) as u8;
                             } else {
-                                c = -1;
+                                (c, inside) = (0, false);
                             }
                         }
-                        coord[o] = c;
+                        axis.part[o] = c as usize * stride[k];
+                        axis.code[o] = digit * [1, 3, 9][k];
+                        axis.inside[o] = inside;
                     }
-                    (coord, shift)
+                    axis
                 })
                 .collect()
         });
@@ -399,23 +404,27 @@ impl StencilTable {
     pub(super) fn bytes(&self) -> usize {
         self.axes
             .iter()
-            .map(|a| a.capacity() * std::mem::size_of::<([i32; 3], [u8; 3])>())
+            .map(|a| a.capacity() * std::mem::size_of::<AxisPart>())
             .sum()
     }
 
     /// The stencil around centre `c`, in cell `ci`.
     #[inline]
     fn around(&self, cells: &Cells, ci: [i32; 3], c: DVec3) -> Stencil {
-        let mut gap = [[0.0f64; 3]; 3];
-        let mut coord = [[0i32; 3]; 3];
-        let mut shift = [[1u8; 3]; 3];
+        let mut st = Stencil {
+            part: [[0; 3]; 3],
+            code: [[0; 3]; 3],
+            gap: [[0.0; 3]; 3],
+            inside: [[true; 3]; 3],
+        };
         for k in 0..3 {
             let below = c[k] - (cells.lo[k] + f64::from(ci[k]) * cells.w[k]);
             let above = cells.w[k] - below;
-            gap[k] = [below * below, 0.0, above * above];
-            (coord[k], shift[k]) = self.axes[k][ci[k] as usize];
+            st.gap[k] = [below * below, 0.0, above * above];
+            let axis = self.axes[k][ci[k] as usize];
+            (st.part[k], st.code[k], st.inside[k]) = (axis.part, axis.code, axis.inside);
         }
-        Stencil { gap, coord, shift }
+        st
     }
 }
 
