@@ -109,6 +109,22 @@ impl<
                 l.delta
             );
             let list = l.of(i as u32);
+            // Every entry is within reach and in the other sphere's list (nothing stale is
+            // left behind by a rebuild); that none is missing is checked below.
+            for &e in list {
+                let (j, code) = super::lists::split(e);
+                let (si, sj) = (l.centre[i], l.centre[j as usize]);
+                let dr = (sj.c - si.c) + self.shift_of(code);
+                let d = si.radius + sj.radius + l.reach;
+                assert!(
+                    dr.length_squared() <= d * d
+                        && l.of(j).contains(&entry(i as u32, mirror(code))),
+                    "after the event of sphere {s} at t = {}: sphere {i}'s list names {j} (shift \
+                     {code}) {} apart, beyond reach {d}, or not mirrored",
+                    self.now,
+                    dr.length()
+                );
+            }
             let mut sorted = list.to_vec();
             sorted.sort_unstable();
             sorted.dedup();

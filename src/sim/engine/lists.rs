@@ -39,6 +39,20 @@ pub(crate) fn mirror(code: u8) -> u8 {
     26 - code
 }
 
+/// Bits of a rebuild's mark below its epoch: a shift code, and whether the entry is kept.
+const MARK_BITS: u32 = CODE_BITS + 1;
+
+/// Where an entry of a new list stood in the list it replaces (`NeighbourLists::match_new`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Before {
+    /// The same entry: it stays in both lists.
+    Same,
+    /// The same sphere, another image.
+    OtherImage,
+    /// Not there.
+    Absent,
+}
+
 /// Rows of the shift table: one for every value of an entry's code bits, so that a code
 /// indexes it with no bounds check (codes 27–31 never occur; their rows are zero).
 pub(crate) const SHIFT_ROWS: usize = 1 << CODE_BITS;
@@ -109,9 +123,10 @@ pub(crate) struct NeighbourLists {
     pub centre: Vec<Shell>,
     /// Each sphere's entries.
     entries: Runs,
-    /// Scratch for a rebuild: the epoch at which each sphere was last seen in the list being
-    /// replaced.
-    pub seen: Vec<u32>,
+    /// Scratch for a rebuild: each sphere's mark from the last rebuild that met it, the
+    /// epoch and a code (`mark`): listed in the list being replaced under that shift code, or
+    /// kept in the new list under it too.
+    seen: Vec<u32>,
     epoch: u32,
 }
 
@@ -132,15 +147,53 @@ impl NeighbourLists {
         }
     }
 
-    /// A new rebuild's epoch (no sphere's `seen` holds it yet).
+    /// Starts a rebuild: a new epoch, which no sphere's mark holds yet.
     #[inline]
-    pub fn next_epoch(&mut self) -> u32 {
-        if self.epoch == u32::MAX {
+    pub fn next_epoch(&mut self) {
+        if self.epoch == u32::MAX >> MARK_BITS {
             self.seen.fill(0);
             self.epoch = 0;
         }
         self.epoch += 1;
-        self.epoch
+    }
+
+    /// This rebuild's mark of an entry with code `code`, listed in the old list, or `kept`
+    /// in the new one as well.
+    #[inline(always)]
+    fn mark(&self, code: u8, kept: bool) -> u32 {
+        self.epoch << MARK_BITS | u32::from(kept) << CODE_BITS | u32::from(code)
+    }
+
+    /// Marks entry `e` of the list being replaced.
+    #[inline]
+    pub fn mark_old(&mut self, e: u32) {
+        let (j, code) = split(e);
+        self.seen[j as usize] = self.mark(code, false);
+    }
+
+    /// Where entry `e` of the new list stood in the list it replaces: under the same code (it
+    /// is then marked kept: both lists, and the other sphere's, keep it), under another code,
+    /// or not at all.
+    #[inline]
+    pub fn match_new(&mut self, e: u32) -> Before {
+        let (j, code) = split(e);
+        let (old, kept) = (self.mark(code, false), self.mark(code, true));
+        let seen = &mut self.seen[j as usize];
+        if *seen == old {
+            *seen = kept;
+            Before::Same
+        } else if *seen >> MARK_BITS == self.epoch {
+            Before::OtherImage
+        } else {
+            Before::Absent
+        }
+    }
+
+    /// Whether entry `e` of the replaced list is kept in the new one (after `match_new`).
+    #[inline]
+    pub fn was_kept(&self, e: u32) -> bool {
+        let (j, code) = split(e);
+        self.seen[j as usize] == self.mark(code, true)
     }
 
     /// Sphere `i`'s entries.
@@ -257,6 +310,40 @@ mod tests {
         assert_eq!(shell_exit(DVec3::X, DVec3::ZERO, 2.0), f64::INFINITY);
         // On the shell and leaving: now.
         assert_eq!(shell_exit(DVec3::X, DVec3::X, 1.0), 0.0);
+    }
+
+    /// A rebuild's marks: an entry of both lists is kept, by its sphere and code; another
+    /// image of a listed sphere is not the same entry; a new epoch forgets every mark.
+    #[test]
+    fn a_rebuild_keeps_the_entries_of_both_lists_by_sphere_and_code() {
+        let mut l = NeighbourLists::new(0.1, vec![Shell::default(); 3]);
+        // Sphere 1 under two images (codes 4 and 22) in the old list, only one in the new.
+        for (old, matched) in [
+            ([entry(1, 4), entry(1, 22), entry(2, 13)], Before::Same),
+            (
+                [entry(1, 22), entry(1, 4), entry(2, 13)],
+                Before::OtherImage,
+            ),
+        ] {
+            l.next_epoch();
+            for &e in &old {
+                l.mark_old(e);
+            }
+            assert_eq!(l.match_new(entry(1, 22)), matched);
+            assert_eq!(l.match_new(entry(0, 13)), Before::Absent);
+            assert_eq!(l.was_kept(entry(1, 22)), matched == Before::Same);
+            assert!(!l.was_kept(entry(1, 4)));
+            assert!(!l.was_kept(entry(2, 13)));
+        }
+        l.next_epoch();
+        assert!(!l.was_kept(entry(1, 22)));
+        assert_eq!(l.match_new(entry(1, 22)), Before::Absent);
+        // The epochs wrap: every mark is cleared, none survives.
+        l.mark_old(entry(2, 13));
+        l.epoch = u32::MAX >> MARK_BITS;
+        l.next_epoch();
+        assert_eq!(l.epoch, 1);
+        assert_eq!(l.match_new(entry(2, 13)), Before::Absent);
     }
 
     #[test]

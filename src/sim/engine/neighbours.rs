@@ -11,7 +11,7 @@
 
 use wide::{f64x4, u32x4, u32x8};
 
-use super::lists::{CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
+use super::lists::{Before, CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
 use super::*;
 use crate::sim::predict::{Kept, arrivals};
 
@@ -176,33 +176,40 @@ impl<
     }
 
     /// Sphere `i`'s new list after its shell event (its centre already moved, into cell
-    /// `ci`): off its old neighbours' lists (read from a copy of its own), then every sphere
-    /// whose centre is within reach, set as its list in one copy and added to theirs; the
-    /// entries naming a sphere that was not in the old list go into `fresh` when
-    /// `track_fresh` (a box of fewer than three cells a side predicts the whole list and
-    /// skips it).
+    /// `ci`): every sphere whose centre is within reach. An entry of both the old and the new
+    /// list stays where it is in the other sphere's list; a new one is added to it, and an old
+    /// one not kept is removed from it. The entries naming a sphere that was not in the old
+    /// list go into `fresh` when `track_fresh` (a box of fewer than three cells a side
+    /// predicts the whole list and skips it).
     pub(super) fn rebuild_list(&mut self, i: u32, ci: [i32; 3], track_fresh: bool) {
-        let epoch = self.lists.next_epoch();
+        self.lists.next_epoch();
         let mut old = std::mem::take(&mut self.old);
         old.clear();
         old.extend_from_slice(self.lists.of(i));
         for &e in &old {
-            let (j, code) = split(e);
-            self.lists.remove(j, entry(i, mirror(code)));
-            self.lists.seen[j as usize] = epoch;
+            self.lists.mark_old(e);
         }
-        self.old = old;
         let found = self.within_reach(i, ci);
-        self.lists.set(i, &self.found[..found]);
         self.fresh.clear();
         for k in 0..found {
             let e = self.found[k];
-            let (j, code) = split(e);
-            self.lists.push(j, entry(i, mirror(code)));
-            if track_fresh && self.lists.seen[j as usize] != epoch {
+            let before = self.lists.match_new(e);
+            if before != Before::Same {
+                let (j, code) = split(e);
+                self.lists.push(j, entry(i, mirror(code)));
+            }
+            if track_fresh && before == Before::Absent {
                 self.fresh.push(e);
             }
         }
+        for &e in &old {
+            if !self.lists.was_kept(e) {
+                let (j, code) = split(e);
+                self.lists.remove(j, entry(i, mirror(code)));
+            }
+        }
+        self.old = old;
+        self.lists.set(i, &self.found[..found]);
     }
 
     /// Builds every list from the centres alone (at the start and after loading a
