@@ -1,13 +1,14 @@
 //! Sphere `i`'s neighbours: its list rebuilt from the cells around its shell centre at its
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
-//! one at a time; the two earliest are kept (`predict_pairs`).
+//! four at a time; the two earliest are kept (`predict_pairs`).
 //!
 //! The loops that load other spheres' records have no branch on what they load: a random
 //! branch (is this pair approaching? how many spheres has this cell?) is mispredicted about
 //! half the time, and each miss throws away the loads in flight. So each stage is two
 //! passes: one that loads everything and writes what passes into a scratch array by an index
 //! it advances by the test's outcome, then one over what passed (docs/benchmarks.md,
-//! "Loops without data branches").
+//! "Loops without data branches"). The tests and answers then take four candidates at a time
+//! in `f64x4` lanes ("Fewer instructions around the same events").
 
 use wide::{f64x4, u32x4, u32x8};
 
@@ -102,7 +103,7 @@ impl<
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
     /// `fresh` holds, new to it at its shell event) and whether there were no others: every
     /// entry's relative motion is computed and the approaching ones are written to `near`
-    /// (with no branch), then each of those is answered in f64, one at a time.
+    /// (with no branch), then those are answered in f64, four at a time.
     pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
         let bi = self.m.bodies[i as usize];
         let list = if fresh_only {
