@@ -98,6 +98,13 @@ impl<
         use super::lists::{entry, mirror};
         let n = self.m.bodies.len();
         let l = &self.lists;
+        // The list test on vectors for sphere `j`'s image `code` seen from `i`: the centres'
+        // squared distance and the reach it is held to (within: `q ≤ d²`).
+        let test = |i: usize, j: usize, code: u8| {
+            let (si, sj) = (l.centre[i], l.centre[j]);
+            let dr = (sj.c - si.c) + self.shift_of(code);
+            (dr.length_squared(), si.radius + sj.radius + l.reach)
+        };
         for i in 0..n {
             let b = &self.m.bodies[i];
             let away = (b.at(self.now, self.m.g).0 - l.centre[i].c).length();
@@ -113,16 +120,13 @@ impl<
             // left behind by a rebuild); that none is missing is checked below.
             for &e in list {
                 let (j, code) = super::lists::split(e);
-                let (si, sj) = (l.centre[i], l.centre[j as usize]);
-                let dr = (sj.c - si.c) + self.shift_of(code);
-                let d = si.radius + sj.radius + l.reach;
+                let (q, d) = test(i, j as usize, code);
                 assert!(
-                    dr.length_squared() <= d * d
-                        && l.of(j).contains(&entry(i as u32, mirror(code))),
+                    q <= d * d && l.of(j).contains(&entry(i as u32, mirror(code))),
                     "after the event of sphere {s} at t = {}: sphere {i}'s list names {j} (shift \
                      {code}) {} apart, beyond reach {d}, or not mirrored",
                     self.now,
-                    dr.length()
+                    q.sqrt()
                 );
             }
             let mut sorted = list.to_vec();
@@ -151,10 +155,8 @@ impl<
             );
             for j in i + 1..n {
                 for &code in codes {
-                    let (si, sj) = (l.centre[i], l.centre[j]);
-                    let dr = (sj.c - si.c) + self.shift_of(code);
-                    let d = si.radius + sj.radius + l.reach;
-                    if dr.length_squared() > d * d {
+                    let (q, d) = test(i, j, code);
+                    if q > d * d {
                         continue;
                     }
                     let (i, j) = (i as u32, j as u32);
@@ -164,7 +166,7 @@ impl<
                         "after the event of sphere {s} at t = {}: spheres {i} and {j} (shift \
                          {code}) are {} apart, within reach {d}, and missing from a list",
                         self.now,
-                        dr.length()
+                        q.sqrt()
                     );
                 }
             }
