@@ -10,34 +10,42 @@
 //! overflow list of events beyond a year, is left there and dropped by its version when it
 //! surfaces.
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-/// One event in the heap or the overflow list: when, whose, and which of its schedules.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Entry {
-    pub t: f64,
-    pub sphere: u32,
-    pub version: u32,
+/// One event in the heap or the overflow list: when, whose, and which of its schedules,
+/// packed into one key whose unsigned order is their order (time as `f64::total_cmp` orders
+/// it, then sphere, then version), so that the heap compares two events in one instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) struct Entry(u128);
+
+/// Flips the magnitude bits of a negative `f64`'s bits (as `f64::total_cmp` does) and the
+/// sign bit: the result's unsigned order is the times' total order. Its own inverse.
+#[inline(always)]
+fn ordered(bits: u64) -> u64 {
+    (bits ^ (((bits as i64) >> 63) as u64 >> 1)) ^ (1 << 63)
 }
 
-impl PartialEq for Entry {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
+impl Entry {
+    #[inline(always)]
+    fn new(t: f64, sphere: u32, version: u32) -> Self {
+        let low = u64::from(sphere) << 32 | u64::from(version);
+        Self(u128::from(ordered(t.to_bits())) << 64 | u128::from(low))
     }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
+
+    #[inline(always)]
+    pub fn t(self) -> f64 {
+        f64::from_bits(ordered((self.0 >> 64) as u64 ^ (1 << 63)) ^ (1 << 63))
     }
-}
-impl Ord for Entry {
-    /// Reversed, so that `BinaryHeap` pops the earliest: time, then sphere, then version.
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.t.total_cmp(&self.t)
-            .then(o.sphere.cmp(&self.sphere))
-            .then(o.version.cmp(&self.version))
+
+    #[inline(always)]
+    pub fn sphere(self) -> u32 {
+        (self.0 >> 32) as u32
+    }
+
+    #[inline(always)]
+    pub fn version(self) -> u32 {
+        self.0 as u32
     }
 }
 
@@ -69,7 +77,7 @@ pub(crate) struct Calendar {
     slots: Vec<Slot>,
     /// Each sphere's schedule count: a heap or overflow entry of an older one is stale.
     version: Vec<u32>,
-    heap: BinaryHeap<Entry>,
+    heap: BinaryHeap<Reverse<Entry>>,
     far: Vec<Entry>,
     /// Spheres with a pending event, and those of them linked into a bucket.
     len: usize,
@@ -152,7 +160,7 @@ impl Calendar {
         }
         let k = self.bucket_of(t);
         if k <= self.current {
-            self.heap.push(self.entry(i));
+            self.heap.push(Reverse(self.entry(i)));
         } else if k - self.current <= self.mask {
             self.link(i, k);
         } else {
@@ -164,13 +172,13 @@ impl Calendar {
     #[inline]
     pub fn pop(&mut self) -> Option<(f64, u32)> {
         loop {
-            if let Some(e) = self.heap.pop() {
-                if e.version != self.version[e.sphere as usize] {
+            if let Some(Reverse(e)) = self.heap.pop() {
+                if e.version() != self.version[e.sphere() as usize] {
                     continue;
                 }
-                self.slots[e.sphere as usize].t = f64::INFINITY;
+                self.slots[e.sphere() as usize].t = f64::INFINITY;
                 self.len -= 1;
-                return Some((e.t, e.sphere));
+                return Some((e.t(), e.sphere()));
             }
             if self.len == 0 {
                 return None;
@@ -181,11 +189,7 @@ impl Calendar {
 
     #[inline]
     fn entry(&self, i: u32) -> Entry {
-        Entry {
-            t: self.slots[i as usize].t,
-            sphere: i,
-            version: self.version[i as usize],
-        }
+        Entry::new(self.slots[i as usize].t, i, self.version[i as usize])
     }
 
     /// Puts sphere `i` first in bucket `k`'s list.
@@ -228,7 +232,7 @@ impl Calendar {
     fn advance(&mut self) {
         if self.linked == 0 {
             self.far
-                .retain(|e| e.version == self.version[e.sphere as usize]);
+                .retain(|e| e.version() == self.version[e.sphere() as usize]);
             if self.far.is_empty() {
                 // No event is held anywhere (the heap is empty too): none is pending, and
                 // `pop` ends instead of turning the ring for ever.
@@ -236,7 +240,7 @@ impl Calendar {
                 self.len = 0;
                 return;
             }
-            let first = self.far.iter().map(|e| self.bucket_of(e.t)).min();
+            let first = self.far.iter().map(|e| self.bucket_of(e.t())).min();
             self.current = first.unwrap_or(self.current).saturating_sub(1);
             self.refill_from_far();
         }
@@ -251,7 +255,7 @@ impl Calendar {
             s.prev = UNLINKED;
             let next = s.next;
             self.linked -= 1;
-            self.heap.push(self.entry(i));
+            self.heap.push(Reverse(self.entry(i)));
             i = next;
         }
     }
@@ -263,12 +267,12 @@ impl Calendar {
     fn refill_from_far(&mut self) {
         let far = std::mem::take(&mut self.far);
         for e in far {
-            if e.version != self.version[e.sphere as usize] {
+            if e.version() != self.version[e.sphere() as usize] {
                 continue;
             }
-            let k = self.bucket_of(e.t);
+            let k = self.bucket_of(e.t());
             if k - self.current <= self.mask {
-                self.link(e.sphere, k);
+                self.link(e.sphere(), k);
             } else {
                 self.far.push(e);
             }
@@ -280,6 +284,55 @@ impl Calendar {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+
+    /// An entry gives back its time, sphere and version to the bit, and entries order as
+    /// their (time by `f64::total_cmp`, sphere, version) tuples, over signed zeros,
+    /// subnormals, negative and huge times and ties.
+    #[test]
+    fn entries_order_as_their_fields() {
+        let mut rng = Rng::new(11);
+        let special = [
+            0.0,
+            -0.0,
+            5e-324,
+            -5e-324,
+            1.0,
+            -1.0,
+            1e300,
+            -1e300,
+            f64::MAX,
+        ];
+        let mut fields = Vec::new();
+        for k in 0..400 {
+            let t = match k % 3 {
+                0 => special[k % special.len()],
+                1 => rng.range(-2.0, 2.0),
+                _ => rng.range(0.0, 1.0) * 10f64.powi((k % 40) as i32 - 20),
+            };
+            fields.push((
+                t,
+                (k % 7) as u32 * 0x9E37_79B9,
+                (k % 5) as u32 * 0x7F4A_7C15,
+            ));
+        }
+        for &(t, s, v) in &fields {
+            let e = Entry::new(t, s, v);
+            assert_eq!(
+                (e.t().to_bits(), e.sphere(), e.version()),
+                (t.to_bits(), s, v)
+            );
+        }
+        for &(ta, sa, va) in &fields {
+            for &(tb, sb, vb) in &fields {
+                let want = ta.total_cmp(&tb).then(sa.cmp(&sb)).then(va.cmp(&vb));
+                let got = Entry::new(ta, sa, va).cmp(&Entry::new(tb, sb, vb));
+                assert_eq!(
+                    got, want,
+                    "({ta:e}, {sa}, {va}) against ({tb:e}, {sb}, {vb})"
+                );
+            }
+        }
+    }
 
     /// Events leave in exact (time, sphere) order whatever the width, including times far
     /// beyond one year and equal times; a sphere scheduled again leaves once, at its last
