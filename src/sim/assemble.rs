@@ -109,15 +109,25 @@ fn reserve_memory(n: usize) -> Result<(), SimError> {
 /// The neighbour lists' shell, in largest diameters, for spheres filling a fraction `phi`
 /// of the grid's volume: a sphere's list reaches that far beyond contact, and it is rebuilt
 /// when the sphere has moved half of it. Half a diameter and the mean free path
-/// (`1 / (6√2 φ g)`, `g` Carnahan–Starling's contact value), at most one diameter: a dense
-/// fluid rebuilds rarely with short lists, a dilute gas would rebuild every few collisions
-/// with a short shell. Chosen by measurement across φ = 0.1–0.5 (docs/benchmarks.md,
-/// "Neighbour lists").
-pub(crate) fn shell(phi: f64) -> f64 {
+/// (`1 / (6√2 φ g)`, `g` Carnahan–Starling's contact value), at most `cap`: a dense fluid
+/// rebuilds rarely with short lists, a dilute gas would rebuild every few collisions with a
+/// short shell. Chosen by measurement across φ = 0.05–0.5 (docs/benchmarks.md, "Neighbour
+/// lists" and "A wider shell for a dilute periodic gas").
+pub(crate) fn shell(phi: f64, cap: f64) -> f64 {
     let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
     let free_path = 1.0 / (6.0 * std::f64::consts::SQRT_2 * phi * g);
-    (0.5 + free_path).min(1.0)
+    (0.5 + free_path).min(cap)
 }
+
+/// The largest shell in a periodic box, in largest diameters: there the spheres fill the box,
+/// so its φ gives their mean free path (below φ ≈ 0.06 a wider shell costs more in list
+/// length than it saves in rebuilds).
+const PERIODIC_SHELL_CAP: f64 = 2.0;
+
+/// The largest shell elsewhere: φ is then taken over the bounding box or the box given, and
+/// spheres may pile up in it far denser than that (a vessel's floor), where a wide shell
+/// makes long lists.
+const OPEN_SHELL_CAP: f64 = 1.0;
 
 /// The cell grid over the boundary (cells at least one largest diameter and the shell wide),
 /// whether it wraps (a periodic box at least three largest diameters a side, an open box as
@@ -140,11 +150,11 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
     } else {
         1.0
     };
-    let shells = |extent: DVec3| {
+    let shells = |extent: DVec3, cap: f64| {
         let volume: f64 = world.spheres.iter().map(|s| s.radius.powi(3)).sum::<f64>()
             * (4.0 / 3.0 * std::f64::consts::PI);
         let phi = (volume / extent.x / extent.y / extent.z).clamp(0.0, 0.74);
-        let delta = shell(phi) * min_width / 2.0;
+        let delta = shell(phi, cap) * min_width / 2.0;
         (delta, min_width + 2.0 * delta * (1.0 + 1e-6))
     };
     Ok(match world.boundary {
@@ -161,12 +171,12 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
             // At most about four cells per sphere: a sparse box gets wider cells, not a huge
             // grid. A small box may have fewer than three a side: the lists then hold each
             // periodic image apart.
-            let (delta, width) = shells(size);
+            let (delta, width) = shells(size, PERIODIC_SHELL_CAP);
             let cells = Cells::new(DVec3::ZERO, size, width, (4 * n).max(27));
             (cells, true, delta)
         }
         Boundary::OpenBox { lo, hi } => {
-            let (delta, width) = shells(hi - lo);
+            let (delta, width) = shells(hi - lo, OPEN_SHELL_CAP);
             (Cells::new(lo, hi - lo, width, 2 * n + 64), false, delta)
         }
         Boundary::Open => {
@@ -183,7 +193,7 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
                 (lo, hi) = (DVec3::ZERO, DVec3::ONE);
             }
             let extent = (hi - lo).max(DVec3::splat(min_width));
-            let (delta, width) = shells(extent);
+            let (delta, width) = shells(extent, OPEN_SHELL_CAP);
             let extent = extent.max(DVec3::splat(width));
             (Cells::new(lo, extent, width, 2 * n + 64), false, delta)
         }

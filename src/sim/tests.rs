@@ -276,10 +276,12 @@ fn a_broken_wall_rule_is_caught() {
 /// After every event, no pair meets before both of its spheres' next events (brute force
 /// over all pairs and images): the engine's prediction rules (stale partners, the two kept
 /// candidates, the merge at a crossing) never let a collision through. Small periodic boxes
-/// (three to five cells a side) make wrap-around and several images common.
+/// (three to five cells a side) make wrap-around and several images common; the dilute one
+/// has the widest shell (`assemble::shell` at its cap).
 #[test]
 fn no_collision_is_ever_missed() {
     for (n, phi, seed, t) in [
+        (200, 0.05, 3, 40.0),
         (108, 0.3, 11, 4.0),
         (32, 0.35, 2, 10.0),
         (256, 0.45, 5, 0.7),
