@@ -111,8 +111,8 @@ fn reserve_memory(n: usize) -> Result<(), SimError> {
 /// when the sphere has moved half of it. Half a diameter and the mean free path
 /// (`1 / (6√2 φ g)`, `g` Carnahan–Starling's contact value), at most `cap`: a dense fluid
 /// rebuilds rarely with short lists, a dilute gas would rebuild every few collisions with a
-/// short shell. Chosen by measurement across φ = 0.05–0.5 (docs/benchmarks.md, "Neighbour
-/// lists" and "A wider shell for a dilute periodic gas").
+/// short shell. Chosen by measurement across φ = 0.02–0.5 (docs/benchmarks.md, "Neighbour
+/// lists", and "A cheaper calendar key and a wider shell" for the caps).
 pub(crate) fn shell(phi: f64, cap: f64) -> f64 {
     let g = (1.0 - phi / 2.0) / (1.0 - phi).powi(3);
     let free_path = 1.0 / (6.0 * std::f64::consts::SQRT_2 * phi * g);

@@ -15,27 +15,32 @@ use std::collections::BinaryHeap;
 
 /// One event in the heap or the overflow list: when, whose, and which of its schedules,
 /// packed into one key whose unsigned order is their order (time as `f64::total_cmp` orders
-/// it, then sphere, then version), so that the heap compares two events in one instruction.
+/// it, then sphere, then version), so that the heap compares two events in one integer comparison.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct Entry(u128);
 
-/// Flips the magnitude bits of a negative `f64`'s bits (as `f64::total_cmp` does) and the
-/// sign bit: the result's unsigned order is the times' total order. Its own inverse.
+/// The sign bit of an `f64`.
+const SIGN: u64 = 1 << 63;
+
+/// Flips the magnitude bits of a negative `f64`'s bits, as `f64::total_cmp` does (its own
+/// inverse: the sign bit is left as it is).
 #[inline(always)]
-fn ordered(bits: u64) -> u64 {
-    (bits ^ (((bits as i64) >> 63) as u64 >> 1)) ^ (1 << 63)
+fn flip_negative(bits: u64) -> u64 {
+    bits ^ (((bits as i64) >> 63) as u64 >> 1)
 }
 
 impl Entry {
     #[inline(always)]
     fn new(t: f64, sphere: u32, version: u32) -> Self {
         let low = u64::from(sphere) << 32 | u64::from(version);
-        Self(u128::from(ordered(t.to_bits())) << 64 | u128::from(low))
+        // With the sign bit flipped too, the unsigned order is the times' total order.
+        let time = flip_negative(t.to_bits()) ^ SIGN;
+        Self(u128::from(time) << 64 | u128::from(low))
     }
 
     #[inline(always)]
     pub fn t(self) -> f64 {
-        f64::from_bits(ordered((self.0 >> 64) as u64 ^ (1 << 63)) ^ (1 << 63))
+        f64::from_bits(flip_negative((self.0 >> 64) as u64 ^ SIGN))
     }
 
     #[inline(always)]
