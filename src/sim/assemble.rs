@@ -120,9 +120,11 @@ pub(crate) fn shell(phi: f64, cap: f64) -> f64 {
 }
 
 /// The largest shell in a periodic box, in largest diameters: there the spheres fill the box,
-/// so its φ gives their mean free path (below φ ≈ 0.06 a wider shell costs more in list
-/// length than it saves in rebuilds).
-const PERIODIC_SHELL_CAP: f64 = 2.0;
+/// so its φ gives their mean free path. Below two, so that a list (the contact distance and
+/// the reach, `D (1 + cap)` and its margins) stays shorter than the smallest box allowed,
+/// three diameters: no sphere lists its own image. (A cap of 2 was 2.5 % better than 1.5
+/// at φ = 0.05 and a cap of 3 9 % worse; at φ = 0.02, 3 was 4 % better: docs/benchmarks.md.)
+const PERIODIC_SHELL_CAP: f64 = 1.9;
 
 /// The largest shell elsewhere: φ is then taken over the bounding box or the box given, and
 /// spheres may pile up in it far denser than that (a vessel's floor), where a wide shell

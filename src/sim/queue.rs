@@ -307,18 +307,22 @@ mod tests {
             -1e300,
             f64::MAX,
         ];
+        let mut times: Vec<f64> = special.to_vec();
+        for k in 0..200 {
+            times.push(match k % 2 {
+                0 => rng.range(-2.0, 2.0),
+                _ => rng.range(0.0, 1.0) * 10f64.powi((k % 40) - 20),
+            });
+        }
+        // Every time with several spheres and versions, high bits included, so that ties in
+        // time (and in time and sphere) are common.
         let mut fields = Vec::new();
-        for k in 0..400 {
-            let t = match k % 3 {
-                0 => special[k % special.len()],
-                1 => rng.range(-2.0, 2.0),
-                _ => rng.range(0.0, 1.0) * 10f64.powi((k % 40) as i32 - 20),
-            };
-            fields.push((
-                t,
-                (k % 7) as u32 * 0x9E37_79B9,
-                (k % 5) as u32 * 0x7F4A_7C15,
-            ));
+        for (k, &t) in times.iter().enumerate() {
+            for m in 0..3u32 {
+                let sphere = (k as u32 % 5 + m).wrapping_mul(0x9E37_79B9);
+                let version = (k as u32 % 3 + 2 * m).wrapping_mul(0x7F4A_7C15);
+                fields.push((t, sphere, version));
+            }
         }
         for &(t, s, v) in &fields {
             let e = Entry::new(t, s, v);

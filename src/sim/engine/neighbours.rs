@@ -251,8 +251,8 @@ impl<
         }
         // Sphere `i` is there once, under the code of no shift, and is not counted. Its
         // images are a box length away, and a periodic box is at least three largest
-        // diameters (`assemble.rs`), more than `2rᵢ + reach` (at most two, and the margins);
-        // an open domain has no images.
+        // diameters (`assemble.rs`), more than `2rᵢ + reach` (at most 2.9 diameters, and the
+        // margins: `PERIODIC_SHELL_CAP`); an open domain has no images.
         let mut len = 0;
         for (at, four) in self.gathered[..rounded]
             .as_chunks::<4>()
