@@ -1,7 +1,7 @@
 //! The lane layer: the SIMD vector types the kernels are generic over, `f32x8` (eight pairs)
 //! and `f64x4` (four), and 3-vector helpers on them. It knows no shape. Masks are lanes with
-//! all bits set or clear, as `wide` produces them; integer index lanes ride beside the float lanes (`u32x8`, `u64x4`), so an
-//! index is never rounded.
+//! all bits set or clear, as `wide` produces them; integer index lanes ride beside the float
+//! lanes (`u32x8`, `u64x4`), so an index is never rounded.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 use wide::{f32x8, f64x4, u32x8, u64x4};

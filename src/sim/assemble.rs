@@ -122,8 +122,9 @@ pub(crate) fn shell(phi: f64, cap: f64) -> f64 {
 /// The largest shell in a periodic box, in largest diameters: there the spheres fill the box,
 /// so its φ gives their mean free path. Below two, so that a list (the contact distance and
 /// the reach, `D (1 + cap)` and its margins) stays shorter than the smallest box allowed,
-/// three diameters: no sphere lists its own image. (A cap of 2 was 2.5 % better than 1.5
-/// at φ = 0.05 and a cap of 3 9 % worse; at φ = 0.02, 3 was 4 % better: docs/benchmarks.md.)
+/// three diameters: no sphere lists its own image. (At φ = 0.05, 1.9 takes 2.8 % fewer
+/// instructions a collision than 1.5 and 9 % fewer than 3; at φ = 0.02, 3 takes 6 % fewer:
+/// docs/benchmarks.md.)
 const PERIODIC_SHELL_CAP: f64 = 1.9;
 
 /// The largest shell elsewhere: φ is then taken over the bounding box or the box given, and
