@@ -1,21 +1,35 @@
 //! The engine's cell list of shell centres: a uniform grid of cells at least one largest
-//! diameter and the shell wide, each a short contiguous array of sphere indices, so a sphere
-//! moves between cells at its shell event by a scan of its old cell's few members and a push,
-//! and a list rebuild reads its neighbours' indices without chasing pointers (the generator
-//! uses it for spacing too). A sphere's cell is not stored: it is `coords_of` its shell centre.
+//! diameter and the shell wide, each a fixed record of eight `u32` (seven members and the
+//! count) with the rare members past the seventh in a side table, so a sphere moves between
+//! cells at its shell event by a scan of its old cell's few members and a push, and a list
+//! rebuild reads a cell as one 32-byte load at a fixed offset, with one bounds check (the
+//! generator uses the grid for spacing too). A sphere's cell is not stored: it is `coords_of` its shell centre.
 //! Periodic boxes wrap; an open domain clamps, so its outermost cells reach to infinity (a
 //! sphere that leaves the domain stays in an edge cell and is still found by its neighbours).
 
-use glam::DVec3;
+use std::collections::HashMap;
 
-use super::runs::Runs;
+use glam::DVec3;
 
 /// "No sphere".
 pub(crate) const NONE: u32 = u32::MAX;
 
-/// Slots every cell has at least (the runs grow past it, never below): a rebuild copies this
-/// many of a cell's slots at once.
-pub(crate) const LEAST_CAPACITY: usize = 8;
+/// Members a cell holds in its record; the rest go to the side table (`Cells::spill`).
+pub(crate) const HEAD: usize = 7;
+
+/// A cell's record: its first [`HEAD`] members, then its count in the last lane. Aligned so
+/// that a rebuild reads it as one 32-byte load.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(32))]
+pub(crate) struct Cell(pub [u32; HEAD + 1]);
+
+impl Cell {
+    /// How many spheres the cell holds (its record's and the side table's).
+    #[inline(always)]
+    pub fn count(&self) -> usize {
+        self.0[HEAD] as usize
+    }
+}
 
 /// The grid and its cell arrays.
 #[derive(Debug, Clone)]
@@ -28,10 +42,12 @@ pub(crate) struct Cells {
     pub w: DVec3,
     /// Box lengths (periodic), `n · w`.
     pub len: DVec3,
-    /// Each cell's spheres. A sphere's cell is not stored: it is `coords_of` its shell
+    /// Each cell's record. A sphere's cell is not stored: it is `coords_of` its shell
     /// centre, which moves at each of its shell events (and the sphere with it, when the
     /// cell changes).
-    runs: Runs,
+    cells: Vec<Cell>,
+    /// The members past the [`HEAD`]th of the cells that have more, in order.
+    spill: HashMap<usize, Vec<u32>>,
 }
 
 impl Cells {
@@ -62,7 +78,8 @@ impl Cells {
             lo,
             w,
             len: extent,
-            runs: Runs::new(cells, LEAST_CAPACITY),
+            cells: vec![Cell::default(); cells],
+            spill: HashMap::new(),
         }
     }
 
@@ -79,30 +96,40 @@ impl Cells {
         ((c[2] as usize * self.n[1] as usize) + c[1] as usize) * self.n[0] as usize + c[0] as usize
     }
 
-    /// The spheres in cell `cell` (an [`index`](Self::index)).
-    #[inline(always)]
-    pub fn members(&self, cell: usize) -> &[u32] {
-        self.runs.of(cell)
+    /// The spheres in cell `cell` (an [`index`](Self::index)), in their order.
+    pub fn members(&self, cell: usize) -> impl Iterator<Item = u32> + '_ {
+        let c = &self.cells[cell];
+        c.0[..c.count().min(HEAD)]
+            .iter()
+            .chain(self.spill(cell))
+            .copied()
     }
 
-    /// Cell `cell`'s [`cell_capacity`](Self::cell_capacity) slots and how many of them hold
-    /// its spheres (the rest are stale).
+    /// Every cell's record (its first [`HEAD`] members and its count), by
+    /// [`index`](Self::index).
     #[inline(always)]
-    pub fn slots(&self, cell: usize) -> (&[u32], usize) {
-        self.runs.slots(cell)
+    pub fn records(&self) -> &[Cell] {
+        &self.cells
     }
 
-    /// The most spheres a cell holds now (the runs' capacity).
+    /// Cell `cell`'s members past the [`HEAD`]th (none, nearly always).
     #[inline]
-    pub fn cell_capacity(&self) -> usize {
-        self.runs.capacity()
+    pub fn spill(&self, cell: usize) -> &[u32] {
+        self.spill.get(&cell).map_or(&[], |v| &v[..])
     }
 
     /// Adds sphere `i` to cell `c`.
     #[inline]
     pub fn insert(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
-        self.runs.push(cell, i);
+        let record = &mut self.cells[cell].0;
+        let k = record[HEAD] as usize;
+        if k < HEAD {
+            record[k] = i;
+        } else {
+            self.spill.entry(cell).or_default().push(i);
+        }
+        record[HEAD] += 1;
     }
 
     /// Removes sphere `i` from cell `c`, where it is (the cell's last sphere takes its slot;
@@ -110,26 +137,62 @@ impl Cells {
     #[inline]
     pub fn remove(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
-        debug_assert!(
-            self.members(cell).contains(&i),
-            "sphere {i} is not in cell {c:?}"
-        );
-        self.runs.remove_value(cell, i);
+        let record = &mut self.cells[cell].0;
+        let count = record[HEAD] as usize;
+        let last = if count > HEAD {
+            let spill = self
+                .spill
+                .get_mut(&cell)
+                .expect("a cell past its record spills");
+            let last = spill.pop().expect("a cell past its record spills");
+            if spill.is_empty() {
+                self.spill.remove(&cell);
+            }
+            last
+        } else if count > 0 {
+            record[count - 1]
+        } else {
+            debug_assert!(false, "sphere {i} is not in empty cell {c:?}");
+            return;
+        };
+        record[HEAD] -= 1;
+        if last == i {
+            return;
+        }
+        // `i` is in the record or the spill; the last member takes its place.
+        if let Some(k) = record[..(count - 1).min(HEAD)].iter().position(|&x| x == i) {
+            record[k] = last;
+        } else if let Some(x) = self
+            .spill
+            .get_mut(&cell)
+            .and_then(|s| s.iter_mut().find(|x| **x == i))
+        {
+            *x = last;
+        } else {
+            // Not there: put the last member back.
+            debug_assert!(false, "sphere {i} is not in cell {c:?}");
+            record[HEAD] += 1;
+            if count > HEAD {
+                self.spill.entry(cell).or_default().push(last);
+            }
+        }
     }
 
     /// Cells in the grid.
     pub fn cell_count(&self) -> usize {
-        self.runs.owners()
+        self.cells.len()
     }
 
     /// Bytes the grid holds.
     pub fn bytes(&self) -> usize {
-        self.runs.bytes()
+        let spilled: usize = self.spill.values().map(|v| v.capacity() * 4 + 40).sum();
+        self.cells.capacity() * size_of::<Cell>() + spilled
     }
 
     /// Empties every cell.
     pub fn clear(&mut self) {
-        self.runs.clear_all();
+        self.cells.fill(Cell::default());
+        self.spill.clear();
     }
 }
 
@@ -154,11 +217,12 @@ mod tests {
         }
         c.remove(1, [1, 1, 1]);
         let cell = c.index([1, 1, 1]);
-        assert_eq!(c.members(cell), &[0, 2]);
+        assert_eq!(c.members(cell).collect::<Vec<_>>(), [0, 2]);
         c.remove(2, [1, 1, 1]);
         c.remove(0, [1, 1, 1]);
-        assert!(c.members(cell).is_empty());
-        // A full cell grows and keeps its members.
+        assert_eq!(c.members(cell).count(), 0);
+        // A cell past its record spills, and keeps its members through removals from the
+        // record, the spill and the end.
         for i in 0..3 {
             c.insert(i, [0, 0, 0]);
         }
@@ -167,9 +231,18 @@ mod tests {
             many.insert(i, [2, 1, 0]);
         }
         many.remove(5, [2, 1, 0]);
-        let mut m = many.members(many.index([2, 1, 0])).to_vec();
+        many.remove(19, [2, 1, 0]);
+        many.remove(12, [2, 1, 0]);
+        let cell = many.index([2, 1, 0]);
+        assert_eq!(many.records()[cell].count(), 17);
+        let mut m: Vec<u32> = many.members(cell).collect();
         m.sort();
-        assert_eq!(m, (0..20).filter(|&i| i != 5).collect::<Vec<_>>());
+        let keep = |i: &u32| ![5, 12, 19].contains(i);
+        assert_eq!(m, (0..20).filter(keep).collect::<Vec<_>>());
+        for i in (0..20).filter(keep) {
+            many.remove(i, [2, 1, 0]);
+        }
+        assert_eq!((many.members(cell).count(), many.spill.len()), (0, 0));
         assert_eq!(c.coords_of(DVec3::new(-5.0, 3.99, 9.0)), [0, 3, 3]);
     }
 }

@@ -18,7 +18,7 @@
 
 use glam::DVec3;
 
-use super::cells::{Cells, NONE};
+use super::cells::{Cell, Cells, NONE};
 use super::queue::Calendar;
 use super::response::{Motion, Outcome, Responder, Trajectory, Wall};
 use super::{EventRecord, SimError, Stats};
@@ -106,9 +106,10 @@ pub(crate) struct Engine<
     pub responder: R,
     pub stats: Stats,
     pub log: Option<Vec<EventRecord>>,
-    /// A rebuild's entries from the cells near, those within reach, and those of them new
-    /// to the sphere.
+    /// A rebuild's entries from the cells near (and from the cells' spills), those within
+    /// reach, and those of them new to the sphere.
     gathered: Vec<u32>,
+    spilled: Vec<u32>,
     found: Vec<u32>,
     fresh: Vec<u32>,
     /// A rebuild's copy of the list it replaces.
@@ -152,7 +153,7 @@ pub(crate) struct Engine<
 /// from the sizes of its arrays (the ones [`Engine::bytes`] counts) as [`Engine::new`] sizes
 /// them: per sphere its body, mass, material, counter, prediction, order, shell record and a
 /// list of [`LIST_ESTIMATE`] entries; the calendar (a slot per sphere, a bucket
-/// head per sphere rounded up to a power of two) and eight slots per cell. Known before
+/// head per sphere rounded up to a power of two) and a 32-byte record per cell. Known before
 /// anything is allocated.
 pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
     use std::mem::size_of;
@@ -166,9 +167,8 @@ pub(crate) fn estimated_bytes(n: usize, max_cells: usize) -> usize {
         + size_of::<lists::Shell>()
         + 2 * size_of::<u32>()
         + LIST_ESTIMATE * size_of::<u32>();
-    // The grid's eight `slots` and one `count` per cell, as `Cells::new` makes them.
-    const SLOTS: usize = 8;
-    let per_cell = SLOTS * size_of::<u32>() + size_of::<u32>();
+    // The grid's record per cell, as `Cells::new` makes them.
+    let per_cell = size_of::<Cell>();
     n.saturating_mul(per_sphere)
         .saturating_add(Calendar::estimated_bytes(n, n))
         .saturating_add(max_cells.saturating_mul(per_cell))
@@ -221,6 +221,7 @@ impl<
             stats: Stats::default(),
             log: log.then(Vec::new),
             gathered: Vec::new(),
+            spilled: Vec::new(),
             found: Vec::new(),
             fresh: Vec::new(),
             old: Vec::new(),
@@ -633,6 +634,7 @@ impl<
             + self.queue.bytes()
             + self.lists.bytes()
             + b(&self.gathered)
+            + b(&self.spilled)
             + b(&self.found)
             + b(&self.near)
             + b(&self.fresh)

@@ -279,7 +279,7 @@ pub fn random_spheres(
                 if (0..3).any(|k| q[k] < 0 || q[k] >= cells.n[k]) {
                     continue;
                 }
-                for &j in cells.members(cells.index(q)) {
+                for j in cells.members(cells.index(q)) {
                     if out[j as usize].centre.distance_squared(p)
                         < 4.0 * radius * radius * (1.0 + 1e-9)
                     {

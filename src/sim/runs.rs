@@ -1,4 +1,4 @@
-//! Short runs of `u32` slots, one run per owner (a cell's spheres, a sphere's list entries),
+//! Short runs of `u32` slots, one run per owner (a sphere's list entries),
 //! all runs the same capacity in one array: an owner's run is a contiguous slice, a push and a
 //! swap-remove are O(1), and a full run makes every run one slot longer (a copy of every run,
 //! once for each new longest length: the capacity is the longest run's).
@@ -26,14 +26,6 @@ impl Runs {
     pub fn of(&self, o: usize) -> &[u32] {
         let start = o * self.cap;
         &self.slots[start..start + self.count[o] as usize]
-    }
-
-    /// Owner `o`'s whole run of [`capacity`](Self::capacity) slots and how many of them are
-    /// its values (the slots after those hold stale values), for a copy of fixed length.
-    #[inline(always)]
-    pub fn slots(&self, o: usize) -> (&[u32], usize) {
-        let start = o * self.cap;
-        (&self.slots[start..start + self.cap], self.count[o] as usize)
     }
 
     /// Appends `v` to owner `o`'s run; returns its slot in the run.
@@ -85,22 +77,6 @@ impl Runs {
     #[inline]
     pub fn clear(&mut self, o: usize) {
         self.count[o] = 0;
-    }
-
-    /// Empties every run.
-    pub fn clear_all(&mut self) {
-        self.count.fill(0);
-    }
-
-    /// The longest a run can be before the next push grows them all.
-    #[inline]
-    pub fn capacity(&self) -> usize {
-        self.cap
-    }
-
-    /// Owners.
-    pub fn owners(&self) -> usize {
-        self.count.len()
     }
 
     /// New owner `new` takes old owner `order[new]`'s run, each value mapped by `map`.
@@ -164,9 +140,6 @@ mod tests {
         assert_eq!(r.of(2), [1, 2, 3, 11, 5, 9, 7, 8]);
         r.clear(2);
         assert!(r.of(2).is_empty());
-        r.push(0, 7);
-        r.clear_all();
-        assert!((0..r.owners()).all(|o| r.of(o).is_empty()));
     }
 
     #[test]
@@ -177,7 +150,6 @@ mod tests {
         r.push(2, 7);
         let long: Vec<u32> = (10..17).collect();
         r.set(1, &long);
-        assert!(r.capacity() >= long.len());
         assert_eq!(r.of(1), &long[..]);
         assert_eq!((r.of(0), r.of(2)), (&[5][..], &[6, 7][..]));
         // A shorter set replaces the run, it does not append.

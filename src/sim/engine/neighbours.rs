@@ -14,6 +14,7 @@ use wide::{f64x4, u32x4, u32x8};
 
 use super::lists::{Before, CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
 use super::*;
+use crate::sim::cells::HEAD;
 use crate::sim::predict::{Kept, arrivals};
 
 /// An approaching neighbour's relative motion from now, written by a prediction's first pass
@@ -287,14 +288,12 @@ impl<
     /// Copies the members of the 27 cells around sphere `i`'s shell centre (in cell `ci`)
     /// into `gathered` as list entries (with their image's shift code); returns how many. A cell
     /// that cannot hold a centre within reach is copied too, but not counted (the next copy
-    /// overwrites it): eight slots are copied whatever a cell holds, so the loop has no branch
-    /// on the cells' contents.
+    /// overwrites it): a cell's whole record is copied whatever it holds, so the loop has no
+    /// branch on the cells' contents. The rare members past a record's seventh go after the
+    /// rest.
     fn cells_near(&mut self, i: u32, ci: [i32; 3]) -> usize {
-        let cap = self.cells.cell_capacity();
-        // Room for every member of 27 full cells, and one more copy of eight.
-        let room = 27 * cap + RUN_COPY;
-        if self.gathered.len() < room {
-            self.gathered.resize(room, 0);
+        if self.gathered.len() < GATHER_ROOM {
+            self.gathered.resize(GATHER_ROOM, 0);
         }
         let si = self.lists.centre[i as usize];
         let far = self.lists.far * self.lists.far;
@@ -304,7 +303,12 @@ impl<
             gap,
             inside,
         } = self.stencil.around(&self.cells, ci, si.c);
-        let (cells, gathered) = (&self.cells, &mut self.gathered[..room]);
+        let (cells, spilled) = (&self.cells, &mut self.spilled);
+        let records = cells.records();
+        spilled.clear();
+        let head: &mut [u32; GATHER_ROOM] = (&mut self.gathered[..GATHER_ROOM])
+            .try_into()
+            .expect("the gathered entries have their room");
         let mut len = 0;
         for z in 0..3 {
             for y in 0..3 {
@@ -319,29 +323,41 @@ impl<
                     // is not counted.
                     let near = row_inside & inside[0][x] & (row_gap + gap[0][x] <= far);
                     let code = row_code + code[0][x];
-                    let (slots, count) = cells.slots(row + part[0][x]);
-                    // Eight slots as entries (`entry`, lane by lane), at once; `len` is at
-                    // most 26 cells' worth.
-                    let run = &slots[..RUN_COPY];
-                    let run = u32x8::new(std::array::from_fn(|k| run[k]));
-                    let entries = (run << CODE_BITS) | u32x8::splat(u32::from(code));
-                    gathered[len..len + RUN_COPY].copy_from_slice(entries.as_array());
-                    if count > RUN_COPY {
-                        // A cell of more than eight (rare: they hold about 2.5 at φ = 0.25).
-                        for k in RUN_COPY..count {
-                            gathered[len + k] = entry(slots[k], code);
-                        }
+                    let cell = row + part[0][x];
+                    let record = &records[cell];
+                    // The record's eight lanes as entries (`entry`, lane by lane), at once;
+                    // `len` is at most 26 records' worth, so the mask changes nothing and
+                    // spares a bounds check.
+                    let lanes = (u32x8::new(record.0) << CODE_BITS) | u32x8::splat(u32::from(code));
+                    let at = len & GATHER_MASK;
+                    head[at..at + HEAD + 1].copy_from_slice(lanes.as_array());
+                    let count = record.count();
+                    if count > HEAD && near {
+                        spilled.extend(cells.spill(cell).iter().map(|&j| entry(j, code)));
                     }
-                    len += usize::from(near) * count;
+                    len += usize::from(near) * count.min(HEAD);
                 }
             }
+        }
+        debug_assert!(len <= 27 * HEAD);
+        if !spilled.is_empty() {
+            let total = len + spilled.len();
+            if self.gathered.len() < total + 4 {
+                self.gathered.resize(total + 4, 0);
+            }
+            self.gathered[len..total].copy_from_slice(spilled);
+            len = total;
         }
         len
     }
 }
 
-/// Slots of a cell copied at once: every cell has that many.
-const RUN_COPY: usize = crate::sim::cells::LEAST_CAPACITY;
+/// The room `gathered` always has: the records of 27 cells and one more copy, below a power
+/// of two (`GATHER_MASK`) and its copy.
+const GATHER_ROOM: usize = GATHER_MASK + 1 + HEAD + 1;
+
+/// One less than a power of two above every length the records of 26 cells can fill.
+const GATHER_MASK: usize = 255;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1: a cell's index,
 /// shift code, gap and whether it is inside the domain are sums (and) of its three axes' parts.
