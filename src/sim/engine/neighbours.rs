@@ -106,22 +106,21 @@ impl<
     /// entry's relative motion is computed and the approaching ones are written to `near`
     /// (with no branch), then those are answered in f64, four at a time.
     pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
-        let bi = self.m.bodies[i as usize];
+        let (ri, vi) = lanes(&self.m.bodies[i as usize]);
         let list = if fresh_only {
             &self.fresh[..]
         } else {
             self.lists.of(i)
         };
         let now = self.now;
-        let mut near = std::mem::take(&mut self.near);
+        let near = &mut self.near;
         if near.len() < list.len().next_multiple_of(4) {
             near.resize(list.len().next_multiple_of(4), Approach::default());
         }
         // Lane by lane the same operations, in the same order, as on `DVec3`: the same bits.
-        // The fourth lanes carry `tⱼ` (unused), and the radii's sum `radiusⱼ − (−radiusᵢ)`, the
-        // contact distance, to the bit `radiusᵢ + radiusⱼ`.
-        let ri = f64x4::new([bi.r.x, bi.r.y, bi.r.z, 0.0]);
-        let vi = f64x4::new([bi.v.x, bi.v.y, bi.v.z, -bi.radius]);
+        // The fourth lanes carry `tⱼ − tᵢ` (unused), and the radii's sum `radiusⱼ − (−radiusᵢ)`,
+        // the contact distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
+        let vi = vi * f64x4::new([1.0, 1.0, 1.0, -1.0]);
         let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
         let mut count = 0usize;
         for &e in list {
@@ -172,7 +171,6 @@ impl<
                 });
             }
         }
-        self.near = near;
         self.stats.kernels.sphere += count as u64;
         kept.result()
     }
