@@ -345,7 +345,10 @@ fn properties(spec: &str) -> Result<Layout, String> {
             "mass" => layout.mass = want("R", 1)?,
             _ => {}
         }
-        layout.width += count;
+        layout.width = layout
+            .width
+            .checked_add(count)
+            .ok_or_else(|| format!("Properties: {name}'s count {count} makes too many columns"))?;
     }
     if layout.pos.is_none() || layout.radius.is_none() {
         return Err("Properties must include pos:R:3 and radius:R:1".into());
@@ -548,6 +551,11 @@ mod tests {
                 "material",
             ),
             ("1\nProperties=pos:R:2:radius:R:1\n0 0 1\n", 2, "pos:R:3"),
+            (
+                "1\nProperties=id:I:18446744073709551615:pos:R:3:radius:R:1\n0 0 0 1\n",
+                2,
+                "Properties: pos's count 3 makes too many columns",
+            ),
             (
                 "1\nProperties=pos:R:3:radius:R:1\n0 0 0 1\n\n2\nProperties=pos:R:3:radius:R:1\n0 0 0 1\n0 nan 0 1\n",
                 8,
