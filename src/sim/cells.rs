@@ -132,8 +132,9 @@ impl Cells {
         record[HEAD] += 1;
     }
 
-    /// Removes sphere `i` from cell `c`, where it is (the cell's last sphere takes its slot;
-    /// a cell holds a few spheres, so finding it is a short scan).
+    /// Removes sphere `i` from cell `c`, where it is (the cell's last member, in its record
+    /// or its spill, takes its place; a cell holds a few spheres, so finding it is a short
+    /// scan).
     #[inline]
     pub fn remove(&mut self, i: u32, c: [i32; 3]) {
         let cell = self.index(c);
@@ -221,28 +222,28 @@ mod tests {
         c.remove(2, [1, 1, 1]);
         c.remove(0, [1, 1, 1]);
         assert_eq!(c.members(cell).count(), 0);
-        // A cell past its record spills, and keeps its members through removals from the
-        // record, the spill and the end.
-        for i in 0..3 {
-            c.insert(i, [0, 0, 0]);
-        }
+        // A cell past its record spills, and keeps its members in the order of a vector's
+        // `swap_remove` through removals from the record, the spill and the end.
         let mut many = Cells::new(DVec3::ZERO, DVec3::splat(4.0), 1.0, 64);
+        let mut model: Vec<u32> = (0..20).collect();
         for i in 0..20 {
             many.insert(i, [2, 1, 0]);
         }
-        many.remove(5, [2, 1, 0]);
-        many.remove(19, [2, 1, 0]);
-        many.remove(12, [2, 1, 0]);
         let cell = many.index([2, 1, 0]);
-        assert_eq!(many.records()[cell].count(), 17);
-        let mut m: Vec<u32> = many.members(cell).collect();
-        m.sort();
-        let keep = |i: &u32| ![5, 12, 19].contains(i);
-        assert_eq!(m, (0..20).filter(keep).collect::<Vec<_>>());
-        for i in (0..20).filter(keep) {
+        for i in [
+            5, 19, 12, 0, 17, 3, 8, 1, 2, 4, 6, 7, 9, 10, 11, 13, 14, 15, 16, 18,
+        ] {
             many.remove(i, [2, 1, 0]);
+            let at = model.iter().position(|&x| x == i).unwrap();
+            model.swap_remove(at);
+            assert_eq!(
+                many.members(cell).collect::<Vec<_>>(),
+                model,
+                "after removing {i}"
+            );
+            assert_eq!(many.records()[cell].count(), model.len());
         }
-        assert_eq!((many.members(cell).count(), many.spill.len()), (0, 0));
+        assert_eq!(many.spill.len(), 0);
         assert_eq!(c.coords_of(DVec3::new(-5.0, 3.99, 9.0)), [0, 3, 3]);
     }
 }

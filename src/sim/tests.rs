@@ -304,6 +304,68 @@ fn no_sphere_lists_its_own_image_in_the_smallest_box() {
     assert!(sim.stats().pair_collisions > 10, "{:?}", sim.stats());
 }
 
+/// Every sphere in one cell, holding three to seven of them (the smallest periodic box) or more
+/// than a record's seven (open space around a small cube, the rest in the spill): the
+/// lanes `cells_near` copies past the last entry counted are read by `within_reach`, so each
+/// must name a sphere. A record's count lane copied as an entry named sphere `count`, past the
+/// last when every sphere shares the cell (found in review: an index out of bounds). Brute
+/// force after every event.
+#[test]
+fn a_lone_crowded_cell_lists_only_spheres() {
+    let side = 3.0 * (1.0 + 1e-6) * (1.0 + 2e-7);
+    for n in 3..=7 {
+        let spheres = generate::random_spheres(
+            DVec3::splat(0.5),
+            DVec3::splat(side - 0.5),
+            &|_| true,
+            n,
+            0.5,
+            1.0,
+            0,
+            n as u64,
+        )
+        .unwrap();
+        let w = World {
+            spheres,
+            boundary: Boundary::Periodic {
+                size: DVec3::splat(side),
+            },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(w).unwrap();
+        sim.engine.set_checking();
+        sim.advance_to(60.0).unwrap();
+        assert!(sim.stats().pair_collisions > 10, "{n}: {:?}", sim.stats());
+    }
+    // Open space around a small cube: the first `n` sites of a 3 × 3 × 3 lattice 1.1
+    // diameters apart, one cell (at least a diameter and the shell wide); the spheres head
+    // for the middle, collide, then fly apart.
+    for n in [8, 13, 14] {
+        let spheres: Vec<SphereState> = (0..n)
+            .map(|k| {
+                let site = DVec3::new((k % 3) as f64, (k / 3 % 3) as f64, (k / 9) as f64);
+                let f = k as f64;
+                SphereState {
+                    centre: site * 0.55,
+                    velocity: DVec3::ONE - site
+                        + 0.3 * DVec3::new((1.3 * f).sin(), (2.1 * f).cos(), (0.7 * f).sin()),
+                    radius: 0.25,
+                    mass: 1.0,
+                    material: 0,
+                }
+            })
+            .collect();
+        let mut sim = Simulation::new(World {
+            spheres,
+            ..World::default()
+        })
+        .unwrap();
+        sim.engine.set_checking();
+        sim.advance_to(10.0).unwrap();
+        assert!(sim.stats().pair_collisions > 3, "{n}: {:?}", sim.stats());
+    }
+}
+
 /// After every event, no pair meets before both of its spheres' next events (brute force
 /// over all pairs and images): the engine's prediction rules (stale partners, the two kept
 /// candidates, the merge at a crossing) never let a collision through. Small periodic boxes

@@ -118,8 +118,9 @@ impl<
             near.resize(list.len().next_multiple_of(4), Approach::default());
         }
         // Lane by lane the same operations, in the same order, as on `DVec3`: the same bits.
-        // The fourth lanes carry `tⱼ − tᵢ` (unused), and the radii's sum `radiusⱼ − (−radiusᵢ)`,
-        // the contact distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
+        // The fourth lanes carry, in `r0`, `(tⱼ − tᵢ) + radiusⱼ·dt` (unused), and in `v` the
+        // radii's sum `radiusⱼ − (−radiusᵢ)`, the contact distance, to the bit
+        // `radiusᵢ + radiusⱼ` (the sign flip is exact).
         let vi = vi * f64x4::new([1.0, 1.0, 1.0, -1.0]);
         let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
         let mut count = 0usize;
@@ -241,8 +242,9 @@ impl<
         let ci_lanes = f64x4::new([si.c.x, si.c.y, si.c.z, -si.radius]);
         let reach = f64x4::splat(self.lists.reach);
         let own = entry(i, NO_SHIFT);
-        // Four candidates at a time: `gathered` has room past the last (`cells_near`), and
-        // the lanes past it are not counted.
+        // Four candidates at a time: `gathered` has room past the last (`cells_near`); the
+        // lanes past it are read and their spheres' centres loaded, so each names a sphere
+        // (`cells_near`), but they are not counted.
         let rounded = candidates.next_multiple_of(4);
         let mut found = std::mem::take(&mut self.found);
         if found.len() < rounded {
@@ -287,8 +289,9 @@ impl<
     /// into `gathered` as list entries (with their image's shift code); returns how many. A cell
     /// that cannot hold a centre within reach is copied too, but not counted (the next copy
     /// overwrites it): a cell's whole record is copied whatever it holds, so the loop has no
-    /// branch on the cells' contents. The rare members past a record's seventh go after the
-    /// rest.
+    /// branch on the cells' contents. Every lane copied names a sphere (the count's lane is
+    /// copied as sphere 0): the last copy stays past the entries counted, where `within_reach`
+    /// reads it. The rare members past a record's seventh go after the rest.
     fn cells_near(&mut self, i: u32, ci: [i32; 3]) -> usize {
         if self.gathered.len() < GATHER_ROOM {
             self.gathered.resize(GATHER_ROOM, 0);
@@ -325,8 +328,11 @@ impl<
                     let record = &records[cell];
                     // The record's eight lanes as entries (`entry`, lane by lane), at once;
                     // `len` is at most 26 records' worth, so the mask changes nothing and
-                    // spares a bounds check.
-                    let lanes = (u32x8::new(record.0) << CODE_BITS) | u32x8::splat(u32::from(code));
+                    // spares a bounds check. The count's lane becomes sphere 0: lanes past
+                    // `len` are read (and indexed by) `within_reach`, so every lane copied
+                    // must name a sphere.
+                    let members = u32x8::new(record.0) & MEMBER_LANES;
+                    let lanes = (members << CODE_BITS) | u32x8::splat(u32::from(code));
                     let at = len & GATHER_MASK;
                     head[at..at + HEAD + 1].copy_from_slice(lanes.as_array());
                     let count = record.count();
@@ -353,6 +359,9 @@ impl<
 /// The room `gathered` always has: the records of 27 cells and one more copy, below a power
 /// of two (`GATHER_MASK`) and its copy.
 const GATHER_ROOM: usize = GATHER_MASK + 1 + HEAD + 1;
+
+/// Keeps a record's seven member lanes and zeroes its count's (`cells_near`).
+const MEMBER_LANES: u32x8 = u32x8::new([!0, !0, !0, !0, !0, !0, !0, 0]);
 
 /// One less than a power of two above every length the records of 26 cells can fill.
 const GATHER_MASK: usize = 255;
