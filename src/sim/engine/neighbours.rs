@@ -272,14 +272,10 @@ impl<
             let within = (x * x + y * y + z * z).simd_le(d * d).to_bitmask();
             let own_lane = u32x4::new(*four).simd_eq(u32x4::splat(own)).to_bitmask();
             let within = within & !own_lane & ((1 << (candidates - 4 * at).min(4)) - 1);
-            // Each entry written after the last one kept, kept by advancing past it.
-            let out = &mut found[len..len + 4];
-            let mut kept = 0;
-            for (k, &e) in four.iter().enumerate() {
-                out[kept] = e;
-                kept += (within >> k & 1) as usize;
-            }
-            len += kept;
+            // The entries kept moved to the front, in order, and written at once.
+            let packed = u32x4::new(*four).shuffle(KEPT_FIRST[within as usize & 15]);
+            found[len..len + 4].copy_from_slice(packed.as_array());
+            len += within.count_ones() as usize;
         }
         self.found = found;
         len
@@ -359,6 +355,35 @@ impl<
 /// The room `gathered` always has: the records of 27 cells and one more copy, below a power
 /// of two (`GATHER_MASK`) and its copy.
 const GATHER_ROOM: usize = GATHER_MASK + 1 + HEAD + 1;
+
+/// For each mask of four lanes, the lanes it sets in order, then the others: the shuffle
+/// that moves the lanes kept to the front (`within_reach`).
+const KEPT_FIRST: [u32x4; 16] = {
+    let mut table = [u32x4::new([0; 4]); 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let mut lanes = [0u32; 4];
+        let (mut at, mut k) = (0, 0);
+        while k < 4 {
+            if mask >> k & 1 == 1 {
+                lanes[at] = k as u32;
+                at += 1;
+            }
+            k += 1;
+        }
+        k = 0;
+        while k < 4 {
+            if mask >> k & 1 == 0 {
+                lanes[at] = k as u32;
+                at += 1;
+            }
+            k += 1;
+        }
+        table[mask] = u32x4::new(lanes);
+        mask += 1;
+    }
+    table
+};
 
 /// Keeps a record's seven member lanes and zeroes its count's (`cells_near`).
 const MEMBER_LANES: u32x8 = u32x8::new([!0, !0, !0, !0, !0, !0, !0, 0]);
@@ -463,6 +488,20 @@ impl StencilTable {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+
+    /// Every mask's shuffle puts the lanes it sets first, in order, as a filter would.
+    #[test]
+    fn kept_first_moves_the_kept_lanes_to_the_front_in_order() {
+        let four = [11, 22, 33, 44];
+        for mask in 0..16usize {
+            let packed = u32x4::new(four).shuffle(KEPT_FIRST[mask]).to_array();
+            let kept: Vec<u32> = (0..4)
+                .filter(|k| mask >> k & 1 == 1)
+                .map(|k| four[k])
+                .collect();
+            assert_eq!(packed[..kept.len()], kept[..], "mask {mask:04b}");
+        }
+    }
 
     /// The merge by its definition: sort the four, keep the first two within the lists'
     /// bound (`bound`, shared with `merge`: this test is of the selection).
