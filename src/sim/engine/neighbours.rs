@@ -493,8 +493,8 @@ mod tests {
     #[test]
     fn kept_first_moves_the_kept_lanes_to_the_front_in_order() {
         let four = [11, 22, 33, 44];
-        for mask in 0..16usize {
-            let packed = u32x4::new(four).shuffle(KEPT_FIRST[mask]).to_array();
+        for (mask, &shuffle) in KEPT_FIRST.iter().enumerate() {
+            let packed = u32x4::new(four).shuffle(shuffle).to_array();
             let kept: Vec<u32> = (0..4)
                 .filter(|k| mask >> k & 1 == 1)
                 .map(|k| four[k])
