@@ -392,6 +392,10 @@ fn row_bytes(input_columns: usize) -> u64 {
 }
 
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    // Ctrl-C and SIGTERM from here on stop the query between two chunks. Installed before
+    // the staged output exists: a signal between its creation and the handler would end the
+    // process with the temporary file left behind.
+    crate::interrupt::install()?;
     let plan = Plan::of(args)?;
     let mut source = plan.input.open(plan.layout, args.chunk_rows)?;
     let columns = OutColumn::of(plan.layout, args.geometry);
@@ -399,7 +403,6 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let mut sink = plan.output.create(&plan.out_path, columns)?;
 
     let start = Instant::now();
-    crate::interrupt::install()?;
     let mut totals = stream(args, &plan, source.as_mut(), sink.as_mut())?;
     let written = sink.path().display().to_string();
     let t = Instant::now();
