@@ -323,11 +323,12 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     // Every picture shares one view of the whole record, so that a sequence stays still.
     let bounds = picture::bounds(frames.iter().flat_map(|f| &f.spheres), &shapes);
     let pictures = pictures(args, &kind, &frames, &chosen, bounds);
+    // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
+    // one is whole (written under a temporary name and renamed). Installed before the
+    // output directory is probed with a temporary file.
+    crate::interrupt::install()?;
     let dir = checked_outputs(args, &pictures, scene_path.as_deref())?;
     let legend = legend(&frames, &chosen, &material_names, shape_keys);
-    // Ctrl-C and SIGTERM from here on: pictures not yet started are skipped; each written
-    // one is whole (written under a temporary name and renamed).
-    crate::interrupt::install()?;
     let extensions = args.format.extensions();
     let results: Vec<Result<Vec<(PathBuf, bool)>, String>> = pictures
         .par_iter()
