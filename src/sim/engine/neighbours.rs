@@ -356,8 +356,8 @@ impl<
 /// of two (`GATHER_MASK`) and its copy.
 const GATHER_ROOM: usize = GATHER_MASK + 1 + HEAD + 1;
 
-/// For each mask of four lanes, the lanes it sets in order, then the others: the shuffle
-/// that moves the lanes kept to the front (`within_reach`).
+/// For each mask of four lanes, the lanes it sets, in order: the shuffle that moves the lanes
+/// kept to the front (`within_reach`; the lanes after them repeat lane 0 and are not counted).
 const KEPT_FIRST: [u32x4; 16] = {
     let mut table = [u32x4::new([0; 4]); 16];
     let mut mask = 0;
@@ -366,14 +366,6 @@ const KEPT_FIRST: [u32x4; 16] = {
         let (mut at, mut k) = (0, 0);
         while k < 4 {
             if mask >> k & 1 == 1 {
-                lanes[at] = k as u32;
-                at += 1;
-            }
-            k += 1;
-        }
-        k = 0;
-        while k < 4 {
-            if mask >> k & 1 == 0 {
                 lanes[at] = k as u32;
                 at += 1;
             }
