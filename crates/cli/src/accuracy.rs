@@ -45,6 +45,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         .svg
         .clone()
         .unwrap_or_else(|| args.out.with_extension("svg"));
+    // The study cannot stop half-way: Ctrl-C or SIGTERM ends the process at once, before
+    // anything is written. The handler is in place before the outputs are probed with a
+    // temporary file, so a signal never leaves the probe behind.
+    crate::interrupt::install()?;
     // Check both outputs before the study runs: a bad path fails now, not after the work, and
     // no existing file is touched until its replacement is complete.
     crate::output::distinct(&args.out, &svg)?;
@@ -58,9 +62,6 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         false,
     )?;
     bar.set_message("families against the exact oracle, then throughput");
-    // The study cannot stop half-way: Ctrl-C or SIGTERM ends the process at once, before
-    // anything is written. The handler is in place before the study is announced.
-    crate::interrupt::install()?;
     eprintln!(
         "accuracy: the study, {} pairs per family, then throughput",
         args.cases
