@@ -52,6 +52,9 @@ pub(crate) struct Best {
     pub wall_index: u32,
     /// When the sphere leaves its shell (its list is then rebuilt).
     pub shell_t: f64,
+    /// Whether the prediction left out approaching pairs that meet no earlier than `shell_t`
+    /// (the shell event then predicts the whole list again).
+    pub beyond: bool,
 }
 
 // Seven records a cache line's worth of eight: the prediction is read at every event.
@@ -66,6 +69,7 @@ impl Default for Best {
             wall_kind: ShapeKind::Plane,
             wall_index: 0,
             shell_t: f64::INFINITY,
+            beyond: false,
         }
     }
 }
@@ -131,6 +135,12 @@ pub(crate) struct Engine<
     pub checking: bool,
     #[cfg(test)]
     scheduled: Vec<f64>,
+    /// Test-only: predictions that left pairs out past their horizon, and the fault injection
+    /// that makes the horizon twice the shell time (`Run::break_horizon`).
+    #[cfg(test)]
+    pub left_out: u64,
+    #[cfg(test)]
+    pub broken_horizon: bool,
     /// Each internal index's public sphere index: spheres are renumbered in cell order every
     /// `reorder_every` events, so that neighbours sit close in memory.
     pub id_of: Vec<u32>,
@@ -235,6 +245,10 @@ impl<
             checking: false,
             #[cfg(test)]
             scheduled: vec![f64::INFINITY; n],
+            #[cfg(test)]
+            left_out: 0,
+            #[cfg(test)]
+            broken_horizon: false,
             id_of: (0..n as u32).collect(),
             reorder_every: 32 * n as u64 + 1024,
             since_reorder: 0,
@@ -418,13 +432,19 @@ impl<
             self.cells.insert(i, c);
         }
         self.rebuild_list(i, c, self.once_per_list);
-        if self.prune(i) || !self.once_per_list {
+        if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond {
             self.predict(i);
         } else {
-            let (fresh, fresh_complete) = self.predict_pairs(i, true);
+            let shell = self.predict_shell(i);
+            let horizon = self.horizon(shell);
+            let (fresh, fresh_complete, beyond) = self.predict_pairs(i, true, horizon);
             let bi = &mut self.best[i as usize];
             (bi.pairs, bi.complete) = merge((bi.pairs, bi.complete), (fresh, fresh_complete));
-            self.predict_shell(i);
+            bi.beyond = beyond;
+            #[cfg(test)]
+            {
+                self.left_out += u64::from(beyond);
+            }
         }
         self.schedule(i);
     }
@@ -552,12 +572,16 @@ impl<
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.advance(i);
-        let (pairs, complete) = self.predict_pairs(i, false);
-        self.best[i as usize] = Best {
-            pairs,
-            complete,
-            ..Best::default()
-        };
+        let shell = self.predict_shell(i);
+        let horizon = self.horizon(shell);
+        let (pairs, complete, beyond) = self.predict_pairs(i, false, horizon);
+        let best = &mut self.best[i as usize];
+        (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
+        #[cfg(test)]
+        {
+            self.left_out += u64::from(beyond);
+        }
+        (best.wall_t, best.wall_kind, best.wall_index) = (f64::INFINITY, ShapeKind::Plane, 0);
         if WALLS {
             let b = self.m.bodies[i as usize];
             let (mut t, wall) = if GRAVITY {
@@ -577,12 +601,29 @@ impl<
             best.wall_t = self.now + t;
             (best.wall_kind, best.wall_index) = (wall.kind, wall.index);
         }
-        self.predict_shell(i);
     }
 
-    /// When sphere `i` (advanced to now) leaves its shell.
+    /// How far ahead a prediction answers pairs, given the time to the sphere's shell event:
+    /// that time while its spheres collide more often than they leave their shells (a pair
+    /// met later is then left out, and the shell event, usually preceded by a collision,
+    /// predicts the whole list again), else every pair (`+∞`): in a dilute gas most shell
+    /// events would otherwise predict the whole list (docs/benchmarks.md, "The horizon").
     #[inline]
-    fn predict_shell(&mut self, i: u32) {
+    fn horizon(&self, shell: f64) -> f64 {
+        #[cfg(test)]
+        if self.broken_horizon {
+            return 0.25 * shell;
+        }
+        if self.stats.crossings < self.stats.pair_collisions {
+            shell
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Sets when sphere `i` (advanced to now) leaves its shell; returns the time from now.
+    #[inline]
+    fn predict_shell(&mut self, i: u32) -> f64 {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;
         let t = if GRAVITY {
@@ -591,6 +632,7 @@ impl<
             shell_exit(p, b.v, self.lists.delta)
         };
         self.best[i as usize].shell_t = self.now + t;
+        t
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in

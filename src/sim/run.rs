@@ -42,6 +42,12 @@ pub(super) trait Run: Send {
     /// Test-only: check the prediction invariant after every event.
     #[cfg(test)]
     fn set_checking(&mut self);
+    /// Test-only: how many predictions left pairs out past their horizon.
+    #[cfg(test)]
+    fn left_out(&self) -> u64;
+    /// Test-only fault injection: the horizon always used, and twice the shell time.
+    #[cfg(test)]
+    fn break_horizon(&mut self);
 }
 
 /// Per-response hooks the public type needs.
@@ -133,6 +139,14 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
         self.checking = true;
         // Renumber often, so that the check covers it.
         self.reorder_every = 97;
+    }
+    #[cfg(test)]
+    fn left_out(&self) -> u64 {
+        self.left_out
+    }
+    #[cfg(test)]
+    fn break_horizon(&mut self) {
+        self.broken_horizon = true;
     }
     fn name(&self) -> String {
         format!(

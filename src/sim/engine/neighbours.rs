@@ -27,6 +27,76 @@ pub(super) struct Approach {
     j: u32,
 }
 
+/// How many pairs a prediction's first pass wrote to `near`, and whether it left out any
+/// that cannot meet within its horizon.
+struct Screened {
+    near: usize,
+    beyond: bool,
+}
+
+/// Writes the lanes of `four` that `mask` sets to the front of `out`, in order (all four are
+/// written; the next call overwrites those not kept); returns how many. `out` holds at least
+/// four: a pass writes at most as many as it has read, into room for its list rounded up.
+#[inline(always)]
+fn pack(out: &mut [Approach], four: &[Approach; 4], mask: u32) -> usize {
+    let out: &mut [Approach; 4] = (&mut out[..4]).try_into().expect("four slots");
+    let mut at = 0;
+    for (k, a) in four.iter().enumerate() {
+        out[at & 3] = *a;
+        at += (mask >> k & 1) as usize;
+    }
+    at
+}
+
+/// A mask of the four pairs not already in contact (a contact is reported once).
+fn not_touching<R: Responder>(responder: &R, i: u32, a: &[Approach; 4]) -> u32 {
+    let mut mask = 0;
+    for (k, a) in a.iter().enumerate() {
+        let d = a.v.to_array()[3];
+        let (q, d2) = (xyz(a.r0).length_squared(), d * d);
+        let touching =
+            q < d2 * (1.0 - 1e-9) || responder.touching(i, a.j) && q <= d2 * (1.0 + 1e-9);
+        mask |= u32::from(!touching) << k;
+    }
+    mask
+}
+
+/// Sphere `i`'s body as lanes of four, its velocity's fourth lane negated: the relative
+/// velocity's fourth lane is then the radii's sum, `radiusⱼ − (−radiusᵢ)`, the contact
+/// distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
+#[inline(always)]
+fn own_lanes(b: &Trajectory) -> (f64x4, f64x4) {
+    let (r, v) = lanes(b);
+    (r, v * f64x4::new([1.0, 1.0, 1.0, -1.0]))
+}
+
+/// List entry `e`'s motion relative to sphere `i` (`own`, from `own_lanes`) from `now`,
+/// lane by lane the same operations, in the same order, as on `DVec3`: the same bits. The
+/// fourth lanes carry, in `r0`, `(tⱼ − tᵢ) + radiusⱼ·dt` (unused), and in `v` the contact
+/// distance.
+#[inline(always)]
+fn relative<const GRAVITY: bool>(
+    bodies: &[Trajectory],
+    shift: &ShiftLanes,
+    (ri, vi): (f64x4, f64x4),
+    now: f64,
+    g: f64x4,
+    e: u32,
+) -> Approach {
+    let (j, code) = split(e);
+    let bj = &bodies[j as usize];
+    let dt = now - bj.t;
+    let (rj, vj) = lanes(bj);
+    let mut r0 = (rj - ri) + shift[usize::from(code)] + vj * f64x4::splat(dt);
+    let mut v = vj - vi;
+    if GRAVITY {
+        // Both fall alike: their relative motion from now on is a straight line.
+        r0 += g * f64x4::splat(0.5 * dt * dt);
+        v += g * f64x4::splat(dt);
+    }
+    Approach { r0, v, j }
+}
+
 /// The periodic shift of each list entry's code in lanes of four, the fourth zero.
 pub(super) type ShiftLanes = [f64x4; super::lists::SHIFT_ROWS];
 
@@ -102,57 +172,87 @@ impl<
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
     /// Sphere `i`'s two earliest contacts with the spheres of its list (or only the entries
-    /// `fresh` holds, new to it at its shell event) and whether there were no others: every
-    /// entry's relative motion is computed and the approaching ones are written to `near`
-    /// (with no branch), then those are answered in f64, four at a time.
-    pub(super) fn predict_pairs(&mut self, i: u32, fresh_only: bool) -> ([Candidate; 2], bool) {
-        let (ri, vi) = lanes(&self.m.bodies[i as usize]);
+    /// `fresh` holds, new to it at its shell event), whether there were no others, and whether
+    /// approaching pairs that cannot meet within `horizon` from now (its shell event) were
+    /// left out: the first pass screens every entry, the second answers the pairs kept.
+    pub(super) fn predict_pairs(
+        &mut self,
+        i: u32,
+        fresh_only: bool,
+        horizon: f64,
+    ) -> ([Candidate; 2], bool, bool) {
+        let Screened { near, beyond } = self.screen(i, fresh_only, horizon);
+        let mut kept = Kept::default();
+        self.answer(&mut kept, near);
+        let (pairs, complete) = kept.result();
+        (pairs, complete, beyond)
+    }
+
+    /// The first pass of a prediction: every entry's relative motion from now, four entries
+    /// at a time, with no branch on what it loads. The approaching ones (`r0 · v < 0`) go to
+    /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`,
+    /// docs/derivations/simulation.md, "The horizon"), which are only counted.
+    fn screen(&mut self, i: u32, fresh_only: bool, horizon: f64) -> Screened {
+        let (ri, vi) = own_lanes(&self.m.bodies[i as usize]);
         let list = if fresh_only {
             &self.fresh[..]
         } else {
             self.lists.of(i)
         };
         let now = self.now;
+        let room = list.len().next_multiple_of(4);
+        if self.near.len() < room {
+            self.near.resize(room, Approach::default());
+        }
         let near = &mut self.near;
-        if near.len() < list.len().next_multiple_of(4) {
-            near.resize(list.len().next_multiple_of(4), Approach::default());
-        }
-        // Lane by lane the same operations, in the same order, as on `DVec3`: the same bits.
-        // The fourth lanes carry, in `r0`, `(tⱼ − tᵢ) + radiusⱼ·dt` (unused), and in `v` the
-        // radii's sum `radiusⱼ − (−radiusᵢ)`, the contact distance, to the bit
-        // `radiusᵢ + radiusⱼ` (the sign flip is exact).
-        let vi = vi * f64x4::new([1.0, 1.0, 1.0, -1.0]);
         let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
-        let mut count = 0usize;
-        for &e in list {
-            let (j, code) = split(e);
-            let bj = &self.m.bodies[j as usize];
-            let dt = now - bj.t;
-            let (rj, vj) = lanes(bj);
-            let mut r0 = (rj - ri) + self.shift[usize::from(code)] + vj * f64x4::splat(dt);
-            let mut v = vj - vi;
-            if GRAVITY {
-                // Both fall alike: their relative motion from now on is a straight line.
-                r0 += g * f64x4::splat(0.5 * dt * dt);
-                v += g * f64x4::splat(dt);
-            }
-            // Only an approaching pair (r0 · v < 0) can meet.
-            let p = (r0 * v).to_array();
-            let mut keep = (p[0] + p[1]) + p[2] < 0.0;
+        let twice_horizon = f64x4::splat(2.0 * horizon);
+        let motion = |e: u32| relative::<GRAVITY>(&self.m.bodies, &self.shift, (ri, vi), now, g, e);
+        let mut out = Screened {
+            near: 0,
+            beyond: false,
+        };
+        let (chunks, tail) = list.as_chunks::<4>();
+        let last = tail.len().wrapping_sub(1);
+        // The tail's lanes past its end repeat its last entry and are not counted.
+        let tail = (!tail.is_empty()).then(|| std::array::from_fn(|k| tail[k.min(last)]));
+        for (four, valid) in (chunks.iter().map(|&four| (four, 0b1111)))
+            .chain(tail.map(|four| (four, (1 << (last + 1)) - 1)))
+        {
+            let a = [
+                motion(four[0]),
+                motion(four[1]),
+                motion(four[2]),
+                motion(four[3]),
+            ];
+            // The four entries' `b` and `c + 2bτ + D²` at once: the same sums as
+            // `DVec3::dot`, in the same order.
+            let [x, y, z, _] = f64x4::transpose([a[0].r0, a[1].r0, a[2].r0, a[3].r0]);
+            let [vx, vy, vz, d] = f64x4::transpose([a[0].v, a[1].v, a[2].v, a[3].v]);
+            let b = (x * vx + y * vy) + z * vz;
+            let (wx, wy, wz) = (
+                vx.mul_add(twice_horizon, x),
+                vy.mul_add(twice_horizon, y),
+                vz.mul_add(twice_horizon, z),
+            );
+            let e = (x * wx + y * wy) + z * wz;
+            let mut approaching = b.simd_lt(f64x4::ZERO).to_bitmask() & valid;
             if R::REPORT_ONLY {
-                // A pair already in contact is not reported again.
-                let d = v.to_array()[3];
-                let (q, d2) = (xyz(r0).length_squared(), d * d);
-                keep &= !(q < d2 * (1.0 - 1e-9)
-                    || self.responder.touching(i, j) && q <= d2 * (1.0 + 1e-9));
+                approaching &= not_touching(&self.responder, i, &a);
             }
-            near[count] = Approach { r0, v, j };
-            count += usize::from(keep);
+            let late = e.simd_gt(d * d).to_bitmask();
+            out.near += pack(&mut near[out.near..], &a, approaching & !late);
+            out.beyond |= approaching & late != 0;
         }
-        // Four approaching pairs at a time, transposed into the kernel's lanes (`near` has room
-        // past the last; the lanes past it are not counted).
-        let mut kept = Kept::default();
-        for (at, four) in near[..count.next_multiple_of(4)]
+        out
+    }
+
+    /// The second pass: the first `count` pairs of `near` answered four at a time, transposed into the kernel's lanes (the scratch has room past the last; the lanes
+    /// past it are not counted), into `kept`.
+    #[inline(always)]
+    fn answer(&mut self, kept: &mut Kept, count: usize) {
+        let now = self.now;
+        for (at, four) in self.near[..count.next_multiple_of(4)]
             .as_chunks::<4>()
             .0
             .iter()
@@ -173,7 +273,6 @@ impl<
             }
         }
         self.stats.kernels.sphere += count as u64;
-        kept.result()
     }
 
     /// Sphere `i`'s new list after its shell event (its centre already moved, into cell

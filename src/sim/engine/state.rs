@@ -1,7 +1,7 @@
 //! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
 //! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
 //! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
-//! cells' contents, the calendar). The layout is format version 3 (`sim::checkpoint`).
+//! cells' contents, the calendar). The layout is format version 4 (`sim::checkpoint`; 4 added `Best::beyond`).
 
 use super::{Best, Candidate, Engine};
 use crate::contact::Body;
@@ -14,14 +14,15 @@ use crate::sim::response::{Responder, Trajectory};
 
 persist_fields!(Trajectory { r, t, v, radius });
 persist_fields!(Candidate { t, j, counter });
-// The wall's kind and index in `Body`'s own order: the layout of format 3 as before.
+// The wall's kind and index in `Body`'s own order, as in format 3; `beyond` since format 4.
 persist_fields!(Best {
     pairs,
     complete,
     wall_t,
     wall_kind,
     wall_index,
-    shell_t
+    shell_t,
+    beyond
 });
 
 /// The engine's state in checkpoint order, for both directions: `$each!(place)` on every
@@ -262,6 +263,7 @@ mod tests {
             wall_kind: ShapeKind::Cylinder,
             wall_index: 9,
             shell_t: 4.5,
+            beyond: true,
         };
         assert_ne!(best, Best::default());
         round_trip(&best);
