@@ -604,17 +604,21 @@ impl<
     }
 
     /// How far ahead a prediction answers pairs, given the time to the sphere's shell event:
-    /// that time while its spheres collide more often than they leave their shells (a pair
-    /// met later is then left out, and the shell event, usually preceded by a collision,
-    /// predicts the whole list again), else every pair (`+∞`): in a dilute gas most shell
-    /// events would otherwise predict the whole list (docs/benchmarks.md, "The horizon").
+    /// that time when it is longer than a sphere's mean time between collisions so far (pairs
+    /// met later are then left out: the sphere will most likely collide, and be predicted
+    /// again, before its shell event, which would otherwise have to predict its whole list),
+    /// else every pair (`+∞`). From the run's own counters, which a checkpoint holds, so a
+    /// resumed run decides alike (docs/derivations/simulation.md, rule 6;
+    /// docs/benchmarks.md, "The horizon").
     #[inline]
     fn horizon(&self, shell: f64) -> f64 {
         #[cfg(test)]
         if self.broken_horizon {
             return 0.25 * shell;
         }
-        if self.stats.crossings < self.stats.pair_collisions {
+        let changes = 2 * self.stats.pair_collisions + self.stats.wall_collisions;
+        let between = self.now * self.m.bodies.len() as f64 / changes as f64;
+        if shell > between {
             shell
         } else {
             f64::INFINITY

@@ -213,12 +213,15 @@ impl<
             beyond: false,
         };
         let (chunks, tail) = list.as_chunks::<4>();
-        let last = tail.len().wrapping_sub(1);
         // The tail's lanes past its end repeat its last entry and are not counted.
-        let tail = (!tail.is_empty()).then(|| std::array::from_fn(|k| tail[k.min(last)]));
-        for (four, valid) in (chunks.iter().map(|&four| (four, 0b1111)))
-            .chain(tail.map(|four| (four, (1 << (last + 1)) - 1)))
-        {
+        let last = tail.len().saturating_sub(1);
+        let tail_four: [u32; 4] = std::array::from_fn(|k| tail.get(k.min(last)).map_or(0, |&e| e));
+        let tail_valid = (1u32 << tail.len()) - 1;
+        for c in 0..chunks.len() + usize::from(!tail.is_empty()) {
+            let (four, valid) = match chunks.get(c) {
+                Some(&four) => (four, 0b1111),
+                None => (tail_four, tail_valid),
+            };
             let a = [
                 motion(four[0]),
                 motion(four[1]),
