@@ -435,8 +435,8 @@ impl<
         if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond {
             self.predict(i);
         } else {
-            let shell = self.predict_shell(i);
-            let horizon = self.horizon(shell);
+            self.predict_shell(i);
+            let horizon = self.horizon(self.best[i as usize].shell_t - self.now);
             let (fresh, fresh_complete, beyond) = self.predict_pairs(i, true, horizon);
             let bi = &mut self.best[i as usize];
             (bi.pairs, bi.complete) = merge((bi.pairs, bi.complete), (fresh, fresh_complete));
@@ -572,8 +572,9 @@ impl<
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.advance(i);
-        let shell = self.predict_shell(i);
-        let horizon = self.horizon(shell);
+        self.predict_shell(i);
+        // Up to the shell event as scheduled (docs/derivations/simulation.md, rule 6).
+        let horizon = self.horizon(self.best[i as usize].shell_t - self.now);
         let (pairs, complete, beyond) = self.predict_pairs(i, false, horizon);
         let best = &mut self.best[i as usize];
         (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
@@ -625,9 +626,9 @@ impl<
         }
     }
 
-    /// Sets when sphere `i` (advanced to now) leaves its shell; returns the time from now.
+    /// Sets when sphere `i` (advanced to now) leaves its shell.
     #[inline]
-    fn predict_shell(&mut self, i: u32) -> f64 {
+    fn predict_shell(&mut self, i: u32) {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;
         let t = if GRAVITY {
@@ -636,7 +637,6 @@ impl<
             shell_exit(p, b.v, self.lists.delta)
         };
         self.best[i as usize].shell_t = self.now + t;
-        t
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
