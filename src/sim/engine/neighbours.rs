@@ -1,6 +1,9 @@
 //! Sphere `i`'s neighbours: its list rebuilt from the cells around its shell centre at its
 //! shell event (`rebuild_list`, `within_reach`), and its contacts with them predicted in f64,
-//! four at a time; the two earliest are kept (`predict_pairs`).
+//! four at a time; the two earliest are kept (`predict_pairs`). A prediction screens its list
+//! four entries at a time (`screen`) and answers only the approaching pairs that can meet
+//! before the sphere's shell event (`answer`): three in five of the others, at φ = 0.4, would
+//! be overtaken by that event (rule 6 of docs/derivations/simulation.md).
 //!
 //! The loops that load other spheres' records have no branch on what they load: a random
 //! branch (is this pair approaching? how many spheres has this cell?) is mispredicted about
@@ -48,17 +51,11 @@ fn pack(out: &mut [Approach], four: &[Approach; 4], mask: u32) -> usize {
     at
 }
 
-/// A mask of the four pairs not already in contact (a contact is reported once).
-fn not_touching<R: Responder>(responder: &R, i: u32, a: &[Approach; 4]) -> u32 {
-    let mut mask = 0;
-    for (k, a) in a.iter().enumerate() {
-        let d = a.v.to_array()[3];
-        let (q, d2) = (xyz(a.r0).length_squared(), d * d);
-        let touching =
-            q < d2 * (1.0 - 1e-9) || responder.touching(i, a.j) && q <= d2 * (1.0 + 1e-9);
-        mask |= u32::from(!touching) << k;
-    }
-    mask
+/// Whether the pair is already in contact (a contact is reported once).
+fn touching<R: Responder>(responder: &R, i: u32, a: &Approach) -> bool {
+    let d = a.v.to_array()[3];
+    let (q, d2) = (xyz(a.r0).length_squared(), d * d);
+    q < d2 * (1.0 - 1e-9) || responder.touching(i, a.j) && q <= d2 * (1.0 + 1e-9)
 }
 
 /// Sphere `i`'s body as lanes of four, its velocity's fourth lane negated: the relative
@@ -181,17 +178,56 @@ impl<
         fresh_only: bool,
         horizon: f64,
     ) -> ([Candidate; 2], bool, bool) {
-        let Screened { near, beyond } = self.screen(i, fresh_only, horizon);
+        let Screened { near, beyond } = if horizon == f64::INFINITY {
+            self.screen_all(i, fresh_only)
+        } else {
+            self.screen(i, fresh_only, horizon)
+        };
         let mut kept = Kept::default();
         self.answer(&mut kept, near);
         let (pairs, complete) = kept.result();
         (pairs, complete, beyond)
     }
 
+    /// The first pass of a prediction with no horizon: every entry's relative motion from
+    /// now, one at a time with no branch on what it loads; the approaching ones
+    /// (`r0 · v < 0`) go to `near`. Fewer instructions a list entry than `screen`'s two
+    /// tests four at a time, and the same `near`.
+    fn screen_all(&mut self, i: u32, fresh_only: bool) -> Screened {
+        let own = own_lanes(&self.m.bodies[i as usize]);
+        let list = if fresh_only {
+            &self.fresh[..]
+        } else {
+            self.lists.of(i)
+        };
+        let room = list.len().next_multiple_of(4);
+        if self.near.len() < room {
+            self.near.resize(room, Approach::default());
+        }
+        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
+        let mut count = 0;
+        for &e in list {
+            let a = relative::<GRAVITY>(&self.m.bodies, &self.shift, own, self.now, g, e);
+            // The same sums as `DVec3::dot`, in the same order.
+            let p = (a.r0 * a.v).to_array();
+            let mut keep = (p[0] + p[1]) + p[2] < 0.0;
+            if R::REPORT_ONLY {
+                keep &= !touching(&self.responder, i, &a);
+            }
+            self.near[count] = a;
+            count += usize::from(keep);
+        }
+        Screened {
+            near: count,
+            beyond: false,
+        }
+    }
+
     /// The first pass of a prediction: every entry's relative motion from now, four entries
     /// at a time, with no branch on what it loads. The approaching ones (`r0 · v < 0`) go to
-    /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`,
-    /// docs/derivations/simulation.md, "The horizon"), which are only counted.
+    /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`: rule 6 of
+    /// docs/derivations/simulation.md, "Why no collision is missed"), which are left out and
+    /// noted (`Screened::beyond`).
     fn screen(&mut self, i: u32, fresh_only: bool, horizon: f64) -> Screened {
         let (ri, vi) = own_lanes(&self.m.bodies[i as usize]);
         let list = if fresh_only {
@@ -228,8 +264,9 @@ impl<
                 motion(four[2]),
                 motion(four[3]),
             ];
-            // The four entries' `b` and `c + 2bτ + D²` at once: the same sums as
-            // `DVec3::dot`, in the same order.
+            // The four entries' `b = r0 · v` and `r0 · (r0 + 2τv) = c + 2bτ + D²` at once, in
+            // lanes: the same sums as `DVec3::dot`, in the same order (`b` to the bit as
+            // before the horizon).
             let [x, y, z, _] = f64x4::transpose([a[0].r0, a[1].r0, a[2].r0, a[3].r0]);
             let [vx, vy, vz, d] = f64x4::transpose([a[0].v, a[1].v, a[2].v, a[3].v]);
             let b = (x * vx + y * vy) + z * vz;
@@ -241,7 +278,9 @@ impl<
             let e = (x * wx + y * wy) + z * wz;
             let mut approaching = b.simd_lt(f64x4::ZERO).to_bitmask() & valid;
             if R::REPORT_ONLY {
-                approaching &= not_touching(&self.responder, i, &a);
+                for (k, a) in a.iter().enumerate() {
+                    approaching &= !(u32::from(touching(&self.responder, i, a)) << k);
+                }
             }
             let late = e.simd_gt(d * d).to_bitmask();
             out.near += pack(&mut near[out.near..], &a, approaching & !late);
@@ -250,8 +289,9 @@ impl<
         out
     }
 
-    /// The second pass: the first `count` pairs of `near` answered four at a time, transposed into the kernel's lanes (the scratch has room past the last; the lanes
-    /// past it are not counted), into `kept`.
+    /// The second pass: the first `count` pairs of `near` answered four at a time, transposed
+    /// into the kernel's lanes, into `kept` (`near` has room past the last; the lanes past it
+    /// are not counted).
     #[inline(always)]
     fn answer(&mut self, kept: &mut Kept, count: usize) {
         let now = self.now;
