@@ -178,11 +178,49 @@ impl<
         fresh_only: bool,
         horizon: f64,
     ) -> ([Candidate; 2], bool, bool) {
-        let Screened { near, beyond } = self.screen(i, fresh_only, horizon);
+        let Screened { near, beyond } = if horizon == f64::INFINITY {
+            self.screen_all(i, fresh_only)
+        } else {
+            self.screen(i, fresh_only, horizon)
+        };
         let mut kept = Kept::default();
         self.answer(&mut kept, near);
         let (pairs, complete) = kept.result();
         (pairs, complete, beyond)
+    }
+
+    /// The first pass of a prediction with no horizon: every entry's relative motion from
+    /// now, one at a time with no branch on what it loads; the approaching ones
+    /// (`r0 · v < 0`) go to `near`. Fewer instructions a list entry than `screen`'s two
+    /// tests four at a time, and the same `near`.
+    fn screen_all(&mut self, i: u32, fresh_only: bool) -> Screened {
+        let own = own_lanes(&self.m.bodies[i as usize]);
+        let list = if fresh_only {
+            &self.fresh[..]
+        } else {
+            self.lists.of(i)
+        };
+        let room = list.len().next_multiple_of(4);
+        if self.near.len() < room {
+            self.near.resize(room, Approach::default());
+        }
+        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
+        let mut count = 0;
+        for &e in list {
+            let a = relative::<GRAVITY>(&self.m.bodies, &self.shift, own, self.now, g, e);
+            // The same sums as `DVec3::dot`, in the same order.
+            let p = (a.r0 * a.v).to_array();
+            let mut keep = (p[0] + p[1]) + p[2] < 0.0;
+            if R::REPORT_ONLY {
+                keep &= !touching(&self.responder, i, &a);
+            }
+            self.near[count] = a;
+            count += usize::from(keep);
+        }
+        Screened {
+            near: count,
+            beyond: false,
+        }
     }
 
     /// The first pass of a prediction: every entry's relative motion from now, four entries
