@@ -138,7 +138,7 @@ pub(crate) struct Engine<
     #[cfg(test)]
     scheduled: Vec<f64>,
     /// Test-only: predictions that left pairs out past their horizon, and the fault injection
-    /// that makes the horizon twice the shell time (`Run::break_horizon`).
+    /// that makes the horizon a quarter of the shell time (`Run::break_horizon`).
     #[cfg(test)]
     pub left_out: u64,
     #[cfg(test)]
@@ -608,12 +608,12 @@ impl<
 
     /// How far ahead a prediction answers pairs, given the time to the sphere's shell event:
     /// that time when the spheres collide clearly more often than they leave their shells
-    /// (three crossings to four collisions so far: φ above about 0.28 in a gas) and the
-    /// sphere's shell event is farther than a sphere's mean time between collisions; else
-    /// every pair (`+∞`). Pairs met later are then left out: the sphere will most likely
-    /// collide, and be predicted again, before its shell event, which would otherwise have to
-    /// predict its whole list (docs/benchmarks.md, "The horizon"). From the run's own time
-    /// and counters, which a checkpoint holds, so a resumed run decides alike
+    /// (fewer than three crossings to four collisions so far: φ above about 0.28 in a gas)
+    /// and the sphere's shell event is farther than a sphere's mean time between collisions;
+    /// else every pair (`+∞`). Pairs met later are then left out: the sphere will most
+    /// likely collide, and be predicted again, before its shell event, which would otherwise
+    /// have to predict its whole list (docs/benchmarks.md, "The horizon"). From the run's
+    /// own time and counters, which a checkpoint holds, so a resumed run decides alike
     /// (docs/derivations/simulation.md, rule 6).
     #[inline]
     fn horizon(&self, shell: f64) -> f64 {

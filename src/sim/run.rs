@@ -45,7 +45,7 @@ pub(super) trait Run: Send {
     /// Test-only: how many predictions left pairs out past their horizon.
     #[cfg(test)]
     fn left_out(&self) -> u64;
-    /// Test-only fault injection: the horizon always used, and twice the shell time.
+    /// Test-only fault injection: the horizon always used, and a quarter of the shell time.
     #[cfg(test)]
     fn break_horizon(&mut self);
 }

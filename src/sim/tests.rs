@@ -449,12 +449,12 @@ fn no_collision_is_ever_missed() {
     );
 }
 
-/// A horizon twice the shell time leaves out pairs that meet before the shell event: the
-/// brute-force check catches the collision that then gets through (so the check above can
-/// fail on the horizon's rule).
+/// A horizon of a quarter of the shell time leaves out pairs that meet before the shell
+/// event: the brute-force check catches the collision that then gets through (so the check
+/// above can fail on the horizon's rule).
 #[test]
 #[should_panic(expected = "overlap")]
-fn a_horizon_past_the_shell_event_is_caught() {
+fn a_horizon_short_of_the_shell_event_is_caught() {
     let mut w = World::default();
     generate::periodic_gas(&mut w, 256, 0.45, 0.5, 1.0, 5).unwrap();
     let mut sim = Simulation::new(w).unwrap();

@@ -1,7 +1,8 @@
 //! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
 //! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
 //! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
-//! cells' contents, the calendar). The layout is format version 4 (`sim::checkpoint`; 4 added `Best::beyond`).
+//! cells' contents, the calendar). The layout is format version 4 (`sim::checkpoint`; 4 added
+//! `Best::beyond`).
 
 use super::{Best, Candidate, Engine};
 use crate::contact::Body;
