@@ -621,7 +621,10 @@ impl<
         if self.broken_horizon {
             return 0.25 * shell;
         }
-        if 4 * self.stats.crossings >= 3 * self.stats.pair_collisions {
+        // Not under gravity: with it a resting pile (python/tests/test_gravity.py) made three
+        // times the events its test allows at rest, not understood yet (docs/derivations/
+        // simulation.md, rule 6).
+        if GRAVITY || 4 * self.stats.crossings >= 3 * self.stats.pair_collisions {
             return f64::INFINITY;
         }
         let changes = 2 * self.stats.pair_collisions + self.stats.wall_collisions;
