@@ -437,16 +437,11 @@ impl<
         if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond {
             self.predict(i);
         } else {
-            self.predict_shell(i);
-            let horizon = self.horizon(self.best[i as usize].shell_t - self.now);
+            let horizon = self.predict_shell(i);
             let (fresh, fresh_complete, beyond) = self.predict_pairs(i, true, horizon);
             let bi = &mut self.best[i as usize];
             (bi.pairs, bi.complete) = merge((bi.pairs, bi.complete), (fresh, fresh_complete));
             bi.beyond = beyond;
-            #[cfg(test)]
-            {
-                self.left_out += u64::from(beyond);
-            }
         }
         self.schedule(i);
     }
@@ -574,17 +569,16 @@ impl<
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.advance(i);
-        self.predict_shell(i);
-        // Up to the shell event as scheduled (docs/derivations/simulation.md, rule 6).
-        let horizon = self.horizon(self.best[i as usize].shell_t - self.now);
+        let horizon = self.predict_shell(i);
         let (pairs, complete, beyond) = self.predict_pairs(i, false, horizon);
         let best = &mut self.best[i as usize];
-        (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
-        #[cfg(test)]
-        {
-            self.left_out += u64::from(beyond);
-        }
-        (best.wall_t, best.wall_kind, best.wall_index) = (f64::INFINITY, ShapeKind::Plane, 0);
+        *best = Best {
+            pairs,
+            complete,
+            beyond,
+            shell_t: best.shell_t,
+            ..Best::default()
+        };
         if WALLS {
             let b = self.m.bodies[i as usize];
             let (mut t, wall) = if GRAVITY {
@@ -622,8 +616,8 @@ impl<
             return 0.25 * shell;
         }
         // Not under gravity: with it a resting pile (python/tests/test_gravity.py) made three
-        // times the events its test allows at rest, not understood yet (docs/derivations/
-        // simulation.md, rule 6).
+        // times the events its test allows at rest, not understood yet (rule 6 of
+        // docs/derivations/simulation.md).
         if GRAVITY || 4 * self.stats.crossings >= 3 * self.stats.pair_collisions {
             return f64::INFINITY;
         }
@@ -636,9 +630,11 @@ impl<
         }
     }
 
-    /// Sets when sphere `i` (advanced to now) leaves its shell.
+    /// Sets when sphere `i` (advanced to now) leaves its shell; returns its prediction's
+    /// horizon, up to that event as scheduled, `fl(T − now)` (rule 6 of
+    /// docs/derivations/simulation.md).
     #[inline]
-    fn predict_shell(&mut self, i: u32) {
+    fn predict_shell(&mut self, i: u32) -> f64 {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;
         let t = if GRAVITY {
@@ -647,6 +643,7 @@ impl<
             shell_exit(p, b.v, self.lists.delta)
         };
         self.best[i as usize].shell_t = self.now + t;
+        self.horizon(self.best[i as usize].shell_t - self.now)
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in

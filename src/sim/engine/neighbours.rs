@@ -183,6 +183,10 @@ impl<
         } else {
             self.screen(i, fresh_only, horizon)
         };
+        #[cfg(test)]
+        {
+            self.left_out += u64::from(beyond);
+        }
         let mut kept = Kept::default();
         self.answer(&mut kept, near);
         let (pairs, complete) = kept.result();
