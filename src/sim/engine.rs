@@ -566,6 +566,11 @@ impl<
     }
 
     /// Predicts sphere `i`'s next pair contact, static contact and shell event from now.
+    /// One body out of line, with its stages inlined into it, so that the sphere's centre
+    /// and the prediction's result pass between them in registers: through memory, each was
+    /// stored in parts and loaded whole, which the store buffer cannot forward (2–5 % of the
+    /// gas's time, docs/benchmarks.md, "Latency").
+    #[inline(never)]
     fn predict(&mut self, i: u32) {
         self.stats.predictions += 1;
         self.advance(i);
@@ -633,7 +638,7 @@ impl<
     /// Sets when sphere `i` (advanced to now) leaves its shell; returns its prediction's
     /// horizon, up to that event as scheduled, `fl(T − now)` (rule 6 of
     /// docs/derivations/simulation.md).
-    #[inline]
+    #[inline(always)]
     fn predict_shell(&mut self, i: u32) -> f64 {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;

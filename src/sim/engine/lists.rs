@@ -80,12 +80,9 @@ pub(crate) fn shell_exit(p: DVec3, v: DVec3, delta: f64) -> f64 {
     let b = p.dot(v);
     let c = (p.length_squared() - delta * delta).min(0.0);
     let root = (b * b - a * c).max(0.0).sqrt();
-    let t = if b > 0.0 {
-        -c / (b + root)
-    } else {
-        (root - b) / a
-    };
-    t.max(0.0)
+    // One division, its operands chosen without a branch (the sign of `b` is a coin toss).
+    let (num, den) = if b > 0.0 { (-c, b + root) } else { (root - b, a) };
+    (num / den).max(0.0)
 }
 
 /// Under a uniform acceleration `g`, a time before which a sphere `p` from its shell centre,

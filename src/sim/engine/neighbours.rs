@@ -172,6 +172,7 @@ impl<
     /// `fresh` holds, new to it at its shell event), whether there were no others, and whether
     /// approaching pairs that cannot meet within `horizon` from now (its shell event) were
     /// left out: the first pass screens every entry, the second answers the pairs kept.
+    #[inline(always)]
     pub(super) fn predict_pairs(
         &mut self,
         i: u32,
