@@ -8,6 +8,7 @@
 //! The bound and its rounding: docs/derivations/simulation.md, "Neighbour lists".
 
 use glam::DVec3;
+use wide::{CmpGt, f64x2};
 
 use crate::sim::runs::Runs;
 
@@ -80,8 +81,11 @@ pub(crate) fn shell_exit(p: DVec3, v: DVec3, delta: f64) -> f64 {
     let b = p.dot(v);
     let c = (p.length_squared() - delta * delta).min(0.0);
     let root = (b * b - a * c).max(0.0).sqrt();
-    // One division, its operands chosen without a branch (the sign of `b` is a coin toss).
-    let (num, den) = if b > 0.0 { (-c, b + root) } else { (root - b, a) };
+    // One division, its operands chosen by a blend, not a branch: the sign of `b` is a coin
+    // toss (`if` on scalars compiled to a branch in some of the engine's copies).
+    let positive = f64x2::splat(b).simd_gt(f64x2::ZERO);
+    let chosen = positive.select(f64x2::new([-c, b + root]), f64x2::new([root - b, a]));
+    let [num, den] = chosen.to_array();
     (num / den).max(0.0)
 }
 
