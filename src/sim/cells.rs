@@ -42,6 +42,8 @@ pub(crate) struct Cells {
     pub w: DVec3,
     /// Box lengths (periodic), `n · w`.
     pub len: DVec3,
+    /// Their reciprocals, for the nearest image of a colliding pair (`Engine::collide_pair`).
+    pub inv_len: DVec3,
     /// Each cell's record. A sphere's cell is not stored: it is `coords_of` its shell
     /// centre, which moves at each of its shell events (and the sphere with it, when the
     /// cell changes).
@@ -78,6 +80,7 @@ impl Cells {
             lo,
             w,
             len: extent,
+            inv_len: 1.0 / extent,
             cells: vec![Cell::default(); cells],
             spill: HashMap::new(),
         }

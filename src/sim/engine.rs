@@ -453,8 +453,13 @@ impl<
         let (bi, bj) = (self.m.bodies[i as usize], self.m.bodies[j as usize]);
         let mut dr = bj.r - bi.r;
         if PERIODIC {
+            // The nearest image by a product, not a quotient: the division sat on the chain from
+            // the collision to the next predictions. The two round alike unless `dr / len` is
+            // within a few ulps of a half-integer, and a colliding pair's nearest image is one
+            // contact distance away, at most a third of a box length (`assemble.rs`), so each
+            // component of `dr` is within a third of a box length of a whole number of them.
             let len = self.cells.len;
-            dr -= len * (dr / len).round();
+            dr -= len * (dr * self.cells.inv_len).round();
         }
         let d = bi.radius + bj.radius;
         let overlap = (d - dr.length()) / d;
