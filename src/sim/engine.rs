@@ -462,8 +462,13 @@ impl<
             dr -= len * (dr * self.cells.inv_len).round();
         }
         let d = bi.radius + bj.radius;
-        let overlap = (d - dr.length()) / d;
-        self.stats.max_overlap = self.stats.max_overlap.max(overlap);
+        // The quotient only when it may be a new largest: its division held up the chain
+        // to the next predictions. The test by a product can differ from one by the quotient
+        // only when the two are within an ulp of each other.
+        let depth = d - dr.length();
+        if depth > self.stats.max_overlap * d {
+            self.stats.max_overlap = self.stats.max_overlap.max(depth / d);
+        }
         let mut out = std::mem::take(&mut self.outcome).cleared();
         self.responder.pair(&mut self.m, i, j, dr, now, &mut out);
         // This event consumed `i`'s calendar entry: `i` is predicted again even when its
