@@ -120,8 +120,8 @@ pub(crate) struct Engine<
     fresh: Vec<u32>,
     /// A rebuild's copy of the list it replaces.
     old: Vec<u32>,
-    /// A prediction's approaching neighbours.
-    near: Vec<neighbours::Approach>,
+    /// A prediction's list entries to answer (the approaching neighbours).
+    near: Vec<u32>,
     /// Whether a sphere is at most once in any list (three cells a side, or an open domain),
     /// so that a rebuild may predict the entries new to it alone.
     once_per_list: bool,

@@ -8,7 +8,7 @@
 //! The bound and its rounding: docs/derivations/simulation.md, "Neighbour lists".
 
 use glam::DVec3;
-use wide::{CmpGt, f64x2};
+use wide::f64x2;
 
 use crate::sim::runs::Runs;
 

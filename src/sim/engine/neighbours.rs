@@ -20,35 +20,20 @@ use super::*;
 use crate::sim::cells::HEAD;
 use crate::sim::predict::{Kept, arrivals};
 
-/// An approaching neighbour's relative motion from now, written by a prediction's first pass
-/// for its second, the kernel: `r0` and `v` in the first three lanes, the contact distance in
-/// the fourth lane of `v`.
+/// A neighbour's relative motion from now, as a prediction's passes compute it (`relative`):
+/// `r0` and `v` in the first three lanes, the contact distance in the fourth lane of `v`.
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Approach {
+struct Approach {
     r0: f64x4,
     v: f64x4,
     j: u32,
 }
 
-/// How many pairs a prediction's first pass wrote to `near`, and whether it left out any
-/// that cannot meet within its horizon.
+/// How many list entries a prediction's first pass wrote to `near` (the pairs to answer), and
+/// whether it left out any that cannot meet within its horizon.
 struct Screened {
     near: usize,
     beyond: bool,
-}
-
-/// Writes the lanes of `four` that `mask` sets to the front of `out`, in order (all four are
-/// written; the next call overwrites those not kept); returns how many. `out` holds at least
-/// four: a pass writes at most as many as it has read, into room for its list rounded up.
-#[inline(always)]
-fn pack(out: &mut [Approach], four: &[Approach; 4], mask: u32) -> usize {
-    let out: &mut [Approach; 4] = (&mut out[..4]).try_into().expect("four slots");
-    let mut at = 0;
-    for (k, a) in four.iter().enumerate() {
-        out[at & 3] = *a;
-        at += (mask >> k & 1) as usize;
-    }
-    at
 }
 
 /// Whether the pair is already in contact (a contact is reported once).
@@ -61,8 +46,11 @@ fn touching<R: Responder>(responder: &R, i: u32, a: &Approach) -> bool {
 /// Sphere `i`'s body as lanes of four, its velocity's fourth lane negated: the relative
 /// velocity's fourth lane is then the radii's sum, `radiusⱼ − (−radiusᵢ)`, the contact
 /// distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
+/// A sphere's body at now as `own_lanes` gives it.
+type Own = (f64x4, f64x4);
+
 #[inline(always)]
-fn own_lanes(b: &Trajectory) -> (f64x4, f64x4) {
+fn own_lanes(b: &Trajectory) -> Own {
     let (r, v) = lanes(b);
     (r, v * f64x4::new([1.0, 1.0, 1.0, -1.0]))
 }
@@ -179,17 +167,18 @@ impl<
         fresh_only: bool,
         horizon: f64,
     ) -> ([Candidate; 2], bool, bool) {
+        let own = own_lanes(&self.m.bodies[i as usize]);
         let Screened { near, beyond } = if horizon == f64::INFINITY {
-            self.screen_all(i, fresh_only)
+            self.screen_all(i, fresh_only, own)
         } else {
-            self.screen(i, fresh_only, horizon)
+            self.screen(i, fresh_only, horizon, own)
         };
         #[cfg(test)]
         {
             self.left_out += u64::from(beyond);
         }
         let mut kept = Kept::default();
-        self.answer(&mut kept, near);
+        self.answer(&mut kept, near, own);
         let (pairs, complete) = kept.result();
         (pairs, complete, beyond)
     }
@@ -198,8 +187,7 @@ impl<
     /// now, one at a time with no branch on what it loads; the approaching ones
     /// (`r0 · v < 0`) go to `near`. Fewer instructions a list entry than `screen`'s two
     /// tests four at a time, and the same `near`.
-    fn screen_all(&mut self, i: u32, fresh_only: bool) -> Screened {
-        let own = own_lanes(&self.m.bodies[i as usize]);
+    fn screen_all(&mut self, i: u32, fresh_only: bool, own: Own) -> Screened {
         let list = if fresh_only {
             &self.fresh[..]
         } else {
@@ -207,7 +195,7 @@ impl<
         };
         let room = list.len().next_multiple_of(4);
         if self.near.len() < room {
-            self.near.resize(room, Approach::default());
+            self.near.resize(room, 0);
         }
         let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
         let mut count = 0;
@@ -219,7 +207,7 @@ impl<
             if R::REPORT_ONLY {
                 keep &= !touching(&self.responder, i, &a);
             }
-            self.near[count] = a;
+            self.near[count] = e;
             count += usize::from(keep);
         }
         Screened {
@@ -233,8 +221,8 @@ impl<
     /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`: rule 6 of
     /// docs/derivations/simulation.md, "Why no collision is missed"), which are left out and
     /// noted (`Screened::beyond`).
-    fn screen(&mut self, i: u32, fresh_only: bool, horizon: f64) -> Screened {
-        let (ri, vi) = own_lanes(&self.m.bodies[i as usize]);
+    fn screen(&mut self, i: u32, fresh_only: bool, horizon: f64, own: Own) -> Screened {
+        let (ri, vi) = own;
         let list = if fresh_only {
             &self.fresh[..]
         } else {
@@ -243,7 +231,7 @@ impl<
         let now = self.now;
         let room = list.len().next_multiple_of(4);
         if self.near.len() < room {
-            self.near.resize(room, Approach::default());
+            self.near.resize(room, 0);
         }
         let near = &mut self.near;
         let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
@@ -288,31 +276,49 @@ impl<
                 }
             }
             let late = e.simd_gt(d * d).to_bitmask();
-            out.near += pack(&mut near[out.near..], &a, approaching & !late);
+            // The entries kept moved to the front, in order, and written at once (all four:
+            // the next group overwrites those not kept; `near` has room for the list rounded
+            // up, and a pass writes no more than it reads).
+            let keep = approaching & !late;
+            let packed = u32x4::new(four).shuffle(KEPT_FIRST[keep as usize & 15]);
+            near[out.near..out.near + 4].copy_from_slice(packed.as_array());
+            out.near += keep.count_ones() as usize;
             out.beyond |= approaching & late != 0;
         }
         out
     }
 
-    /// The second pass: the first `count` pairs of `near` answered four at a time, transposed
-    /// into the kernel's lanes, into `kept` (`near` has room past the last; the lanes past it
-    /// are not counted).
+    /// The second pass: the first `count` entries of `near` answered four at a time, their
+    /// relative motion computed again as the first pass did (`own` the sphere's, the same
+    /// bits) and transposed into the kernel's lanes, into `kept` (`near` has room past the
+    /// last, each lane naming a sphere; the lanes past it are not counted). Computing it
+    /// again costs less than the first pass writing each pair's 64 bytes for this one.
     #[inline(always)]
-    fn answer(&mut self, kept: &mut Kept, count: usize) {
+    fn answer(&mut self, kept: &mut Kept, count: usize, own: Own) {
         let now = self.now;
+        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
         for (at, four) in self.near[..count.next_multiple_of(4)]
             .as_chunks::<4>()
             .0
             .iter()
             .enumerate()
         {
-            let [a0, a1, a2, a3] = four;
-            let (t, finite) = arrivals([a0.r0, a1.r0, a2.r0, a3.r0], [a0.v, a1.v, a2.v, a3.v]);
+            let motion = |e: u32| relative::<GRAVITY>(&self.m.bodies, &self.shift, own, now, g, e);
+            let a = [
+                motion(four[0]),
+                motion(four[1]),
+                motion(four[2]),
+                motion(four[3]),
+            ];
+            let (t, finite) = arrivals(
+                [a[0].r0, a[1].r0, a[2].r0, a[3].r0],
+                [a[0].v, a[1].v, a[2].v, a[3].v],
+            );
             let mut hits = finite & ((1 << (count - 4 * at).min(4)) - 1);
             while hits != 0 {
                 let k = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
-                let j = four[k].j;
+                let j = a[k].j;
                 kept.add(Candidate {
                     t: now + t[k],
                     j,
