@@ -43,12 +43,12 @@ fn touching<R: Responder>(responder: &R, i: u32, a: &Approach) -> bool {
     q < d2 * (1.0 - 1e-9) || responder.touching(i, a.j) && q <= d2 * (1.0 + 1e-9)
 }
 
-/// Sphere `i`'s body as lanes of four, its velocity's fourth lane negated: the relative
-/// velocity's fourth lane is then the radii's sum, `radiusⱼ − (−radiusᵢ)`, the contact
-/// distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
 /// A sphere's body at now as `own_lanes` gives it.
 type Own = (f64x4, f64x4);
 
+/// Sphere `i`'s body as lanes of four, its velocity's fourth lane negated: the relative
+/// velocity's fourth lane is then the radii's sum, `radiusⱼ − (−radiusᵢ)`, the contact
+/// distance, to the bit `radiusᵢ + radiusⱼ` (the sign flip is exact).
 #[inline(always)]
 fn own_lanes(b: &Trajectory) -> Own {
     let (r, v) = lanes(b);
