@@ -22,7 +22,7 @@ use crate::sim::predict::{Kept, arrivals};
 
 /// A neighbour's relative motion from now, as a prediction's passes compute it (`relative`):
 /// `r0` and `v` in the first three lanes, the contact distance in the fourth lane of `v`.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct Approach {
     r0: f64x4,
     v: f64x4,
@@ -87,7 +87,13 @@ pub(super) type ShiftLanes = [f64x4; super::lists::SHIFT_ROWS];
 
 /// The shift table in lanes of four.
 pub(super) fn shift_lanes(shift: [DVec3; super::lists::SHIFT_ROWS]) -> ShiftLanes {
-    shift.map(|s| f64x4::new([s.x, s.y, s.z, 0.0]))
+    shift.map(vector_lanes)
+}
+
+/// A vector in lanes of four, the fourth zero.
+#[inline(always)]
+fn vector_lanes(a: DVec3) -> f64x4 {
+    f64x4::new([a.x, a.y, a.z, 0.0])
 }
 
 /// A body as two lanes of four, as it lies in memory: centre and time, velocity and radius.
@@ -197,7 +203,7 @@ impl<
         if self.near.len() < room {
             self.near.resize(room, 0);
         }
-        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
+        let g = vector_lanes(self.m.g);
         let mut count = 0;
         for &e in list {
             let a = relative::<GRAVITY>(&self.m.bodies, &self.shift, own, self.now, g, e);
@@ -234,7 +240,7 @@ impl<
             self.near.resize(room, 0);
         }
         let near = &mut self.near;
-        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
+        let g = vector_lanes(self.m.g);
         let twice_horizon = f64x4::splat(2.0 * horizon);
         let motion = |e: u32| relative::<GRAVITY>(&self.m.bodies, &self.shift, (ri, vi), now, g, e);
         let mut out = Screened {
@@ -292,11 +298,11 @@ impl<
     /// relative motion computed again as the first pass did (`own` the sphere's, the same
     /// bits) and transposed into the kernel's lanes, into `kept` (`near` has room past the
     /// last, each lane naming a sphere; the lanes past it are not counted). Computing it
-    /// again costs less than the first pass writing each pair's 64 bytes for this one.
+    /// again costs less than the first pass writing each pair's 96-byte motion for this one.
     #[inline(always)]
     fn answer(&mut self, kept: &mut Kept, count: usize, own: Own) {
         let now = self.now;
-        let g = f64x4::new([self.m.g.x, self.m.g.y, self.m.g.z, 0.0]);
+        let g = vector_lanes(self.m.g);
         for (at, four) in self.near[..count.next_multiple_of(4)]
             .as_chunks::<4>()
             .0
