@@ -14,8 +14,8 @@
 //! in `f64x4` lanes ("Fewer instructions around the same events").
 //!
 //! **Every lane names a sphere.** The passes read whole groups of four, past the entries they
-//! count, and load the sphere each lane names without a bounds check (`relative`, and the
-//! rebuild's load of a shell centre). This holds because every `u32` in the engine's cell
+//! count, and load the sphere each lane names without a bounds check (`named`, from `relative`
+//! and the rebuild's load of a shell centre). This holds because every `u32` in the engine's cell
 //! records, lists, `gathered` and `near` is a sphere index below `n` (with a shift code), or
 //! zero (sphere 0, with `n ≥ 1` whenever a pass runs): they are written only from the
 //! indices `0..n` the cells are filled with (`Engine::new`, `reorder`, a checkpoint's
@@ -85,9 +85,8 @@ unsafe fn relative<const GRAVITY: bool>(
     e: u32,
 ) -> Approach {
     let (j, code) = split(e);
-    debug_assert!((j as usize) < bodies.len(), "entry {e:#x} names no sphere");
     // SAFETY: the caller's promise.
-    let bj = unsafe { bodies.get_unchecked(j as usize) };
+    let bj = unsafe { named(bodies, j) };
     let dt = now - bj.t;
     let (rj, vj) = lanes(bj);
     let mut r0 = (rj - ri) + shift[usize::from(code)] + vj * f64x4::splat(dt);
@@ -98,6 +97,23 @@ unsafe fn relative<const GRAVITY: bool>(
         v += g * f64x4::splat(dt);
     }
     Approach { r0, v, j }
+}
+
+/// Sphere `j`'s record in a per-sphere array, loaded without a bounds check: the passes' one
+/// unchecked load, and the check every test build makes of it.
+///
+/// # Safety
+///
+/// `j < items.len()` (the module's "Every lane names a sphere").
+#[inline(always)]
+unsafe fn named<T>(items: &[T], j: u32) -> &T {
+    debug_assert!(
+        (j as usize) < items.len(),
+        "sphere {j} of {}: the lane names no sphere",
+        items.len()
+    );
+    // SAFETY: the caller's promise.
+    unsafe { items.get_unchecked(j as usize) }
 }
 
 /// The periodic shift of each list entry's code in lanes of four, the fourth zero.
@@ -448,13 +464,8 @@ impl<
         {
             let relative = |k: usize| {
                 let (j, code) = split(four[k]);
-                debug_assert!(
-                    (j as usize) < centre.len(),
-                    "lane {:#x} names no sphere",
-                    four[k]
-                );
                 // SAFETY: every lane of `gathered` names a sphere (the module's doc).
-                let cj = unsafe { centre.get_unchecked(j as usize) };
+                let cj = unsafe { named(centre, j) };
                 (shell_lanes(cj) - ci_lanes) + self.shift[usize::from(code)]
             };
             let dr = [relative(0), relative(1), relative(2), relative(3)];
