@@ -36,7 +36,7 @@ mod state;
 
 pub(crate) use super::predict::Candidate;
 pub(crate) use lists::MAX_SPHERES;
-use lists::{NeighbourLists, shell_exit, shell_exit_falling};
+use lists::{NeighbourLists, Quotient, shell_exit_falling, shell_exit_quotient};
 use neighbours::merge;
 
 /// What a sphere's pending event is.
@@ -615,50 +615,52 @@ impl<
         }
     }
 
-    /// How far ahead a prediction answers pairs, given the time to the sphere's shell event:
-    /// that time when the spheres collide clearly more often than they leave their shells
-    /// (fewer than three crossings to four collisions so far: φ above about 0.28 in a gas)
-    /// and the sphere's shell event is farther than a sphere's mean time between collisions;
-    /// else every pair (`+∞`). Pairs met later are then left out: the sphere will most
-    /// likely collide, and be predicted again, before its shell event, which would otherwise
-    /// have to predict its whole list (docs/benchmarks.md, "The horizon"). From the run's
-    /// own time and counters, which a checkpoint holds, so a resumed run decides alike
-    /// (docs/derivations/simulation.md, rule 6).
+    /// How far ahead a prediction answers pairs, given the time to the sphere's shell event
+    /// (`shell`, undivided): that time when the spheres collide clearly more often than they
+    /// leave their shells (fewer than three crossings to four collisions so far: φ above about
+    /// 0.28 in a gas) and the sphere's shell event is farther than a sphere's mean time
+    /// between collisions; else every pair (`None`). Pairs met later are then left out: the
+    /// sphere will most likely collide, and be predicted again, before its shell event, which
+    /// would otherwise have to predict its whole list (docs/benchmarks.md, "The horizon").
+    /// From the run's own time and counters, which a checkpoint holds, so a resumed run
+    /// decides alike (docs/derivations/simulation.md, rule 6).
     #[inline]
-    fn horizon(&self, shell: f64) -> f64 {
+    fn horizon(&self, shell: Quotient) -> Option<Quotient> {
         #[cfg(test)]
         if self.broken_horizon {
-            return 0.25 * shell;
+            return Some(Quotient {
+                num: 0.25 * shell.num,
+                den: shell.den,
+            });
         }
-        // Not under gravity: with it a resting pile (python/tests/test_gravity.py) made three
-        // times the events its test allows at rest, not understood yet (rule 6 of
-        // docs/derivations/simulation.md).
-        if GRAVITY || 4 * self.stats.crossings >= 3 * self.stats.pair_collisions {
-            return f64::INFINITY;
+        if 4 * self.stats.crossings >= 3 * self.stats.pair_collisions {
+            return None;
         }
         let changes = 2 * self.stats.pair_collisions + self.stats.wall_collisions;
-        let between = self.now * self.m.bodies.len() as f64 / changes as f64;
-        if shell > between {
-            shell
-        } else {
-            f64::INFINITY
-        }
+        // `shell > now · n / changes`, multiplied out (`den` and `changes` are positive).
+        let n = self.m.bodies.len() as f64;
+        let far = shell.num * changes as f64 > self.now * n * shell.den;
+        far.then(|| shell.reaching(self.now))
     }
 
     /// Sets when sphere `i` (advanced to now) leaves its shell; returns its prediction's
-    /// horizon, up to that event as scheduled, `fl(T − now)` (rule 6 of
+    /// horizon, no shorter than the time to that event as scheduled (rule 6 of
     /// docs/derivations/simulation.md).
     #[inline(always)]
-    fn predict_shell(&mut self, i: u32) -> f64 {
+    fn predict_shell(&mut self, i: u32) -> Option<Quotient> {
         let b = self.m.bodies[i as usize];
         let p = b.r - self.lists.centre[i as usize].c;
-        let t = if GRAVITY {
-            shell_exit_falling(p, b.v, self.m.g, self.lists.delta)
-        } else {
-            shell_exit(p, b.v, self.lists.delta)
-        };
-        self.best[i as usize].shell_t = self.now + t;
-        self.horizon(self.best[i as usize].shell_t - self.now)
+        if GRAVITY {
+            // No horizon under gravity: with it a resting pile (python/tests/test_gravity.py)
+            // made three times the events its test allows at rest, not understood yet
+            // (rule 6 of docs/derivations/simulation.md).
+            let t = shell_exit_falling(p, b.v, self.m.g, self.lists.delta);
+            self.best[i as usize].shell_t = self.now + t;
+            return None;
+        }
+        let shell = shell_exit_quotient(p, b.v, self.lists.delta);
+        self.best[i as usize].shell_t = self.now + shell.map_or(f64::INFINITY, Quotient::value);
+        shell.and_then(|q| self.horizon(q))
     }
 
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in

@@ -69,24 +69,59 @@ pub(crate) fn shifts(len: DVec3, periodic: bool) -> [DVec3; SHIFT_ROWS] {
     })
 }
 
+/// A time from now left as the quotient `num / den` (`num ≥ 0`, `den > 0`): a prediction's
+/// screen multiplies through by `den` rather than wait on the division (rule 6 of
+/// docs/derivations/simulation.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Quotient {
+    pub num: f64,
+    pub den: f64,
+}
+
+impl Quotient {
+    /// The time, `num / den` (at least zero).
+    #[inline(always)]
+    pub fn value(self) -> f64 {
+        (self.num / self.den).max(0.0)
+    }
+
+    /// A quotient no shorter than the time from `now` to `fl(now + self.value())`, the
+    /// event as scheduled: `num (1 + 2⁻⁵⁰) + now 2⁻⁵⁰ den` over `den` covers the two
+    /// roundings (rule 6 of docs/derivations/simulation.md, "Which τ").
+    #[inline(always)]
+    pub fn reaching(self, now: f64) -> Self {
+        const SLACK: f64 = 1.0 / (1u64 << 50) as f64;
+        Self {
+            num: self.num.mul_add(1.0 + SLACK, now * SLACK * self.den),
+            den: self.den,
+        }
+    }
+}
+
 /// Time from now until a sphere at `p` from its shell centre, moving at `v`, is `delta` from
 /// it: the larger root of `‖p + v t‖² = δ²` (`‖p‖ ≤ δ`), in the form without cancellation;
 /// `+∞` at rest.
-#[inline]
+#[cfg(test)]
 pub(crate) fn shell_exit(p: DVec3, v: DVec3, delta: f64) -> f64 {
+    shell_exit_quotient(p, v, delta).map_or(f64::INFINITY, Quotient::value)
+}
+
+/// `shell_exit` before its division; `None` at rest.
+#[inline(always)]
+pub(crate) fn shell_exit_quotient(p: DVec3, v: DVec3, delta: f64) -> Option<Quotient> {
     let a = v.length_squared();
     if a == 0.0 {
-        return f64::INFINITY;
+        return None;
     }
     let b = p.dot(v);
     let c = (p.length_squared() - delta * delta).min(0.0);
     let root = (b * b - a * c).max(0.0).sqrt();
-    // One division, its operands chosen by a blend, not a branch: the sign of `b` is a coin
-    // toss (`if` on scalars compiled to a branch in some of the engine's copies).
+    // The operands chosen by a blend, not a branch: the sign of `b` is a coin toss (`if` on
+    // scalars compiled to a branch in some of the engine's copies).
     let positive = f64x2::splat(b).simd_gt(f64x2::ZERO);
     let chosen = positive.select(f64x2::new([-c, b + root]), f64x2::new([root - b, a]));
     let [num, den] = chosen.to_array();
-    (num / den).max(0.0)
+    Some(Quotient { num, den })
 }
 
 /// Under a uniform acceleration `g`, a time before which a sphere `p` from its shell centre,
@@ -311,6 +346,45 @@ mod tests {
         assert_eq!(shell_exit(DVec3::X, DVec3::ZERO, 2.0), f64::INFINITY);
         // On the shell and leaving: now.
         assert_eq!(shell_exit(DVec3::X, DVec3::X, 1.0), 0.0);
+    }
+
+    /// `m 2^e` of a positive normal `x`, exactly.
+    fn dyadic(x: f64) -> (i128, i32) {
+        assert!(x.is_normal() && x > 0.0, "{x}");
+        let bits = x.to_bits();
+        let e = (bits >> 52) as i32;
+        (i128::from(bits & ((1 << 52) - 1) | 1 << 52), e - 1075)
+    }
+
+    /// Whether `num / den ≥ later − now`, in exact arithmetic (`later ≥ now`), for the
+    /// magnitudes of the test below: every product fits in an `i128`.
+    fn reaches(num: f64, den: f64, now: f64, later: f64) -> bool {
+        let ((m_now, e_now), (m_later, e_later)) = (dyadic(now), dyadic(later));
+        // `later − now` in units of `now`'s last place (`later` is in its binade or above).
+        let gap = (m_later << (e_later - e_now)) - m_now;
+        let ((m_den, e_den), (m_num, e_num)) = (dyadic(den), dyadic(num));
+        let shift = e_num - (e_now + e_den);
+        assert!((0..60).contains(&shift), "{shift}");
+        m_num << shift >= gap * m_den
+    }
+
+    /// The horizon reaches the shell event as scheduled, `fl(now + fl(num / den))`, past
+    /// both roundings, exactly; the quotient before `reaching` falls short of it in some
+    /// cases, so the slack is needed (rule 6 of docs/derivations/simulation.md, "Which τ").
+    #[test]
+    fn the_horizon_reaches_the_shell_event_as_scheduled() {
+        let mut rng = Rng::new(11);
+        let mut short = 0;
+        for _ in 0..200_000 {
+            let now = 2f64.powf(rng.range(10.0, 19.9));
+            let (num, den) = (2f64.powf(rng.range(-4.9, 4.9)), rng.range(1.0, 1.999));
+            let q = Quotient { num, den };
+            let scheduled = now + q.value();
+            let r = q.reaching(now);
+            assert!(reaches(r.num, r.den, now, scheduled), "{num} {den} {now}");
+            short += usize::from(!reaches(num, den, now, scheduled));
+        }
+        assert!(short > 1000, "{short}");
     }
 
     /// A rebuild's marks: an entry of both lists is kept, by its sphere and code; another

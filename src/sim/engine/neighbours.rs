@@ -25,7 +25,7 @@
 
 use wide::{f64x4, u32x4, u32x8};
 
-use super::lists::{Before, CODE_BITS, NO_SHIFT, Shell, entry, mirror, split};
+use super::lists::{Before, CODE_BITS, NO_SHIFT, Quotient, Shell, entry, mirror, split};
 use super::*;
 use crate::sim::cells::HEAD;
 use crate::sim::predict::{Kept, arrivals};
@@ -205,13 +205,12 @@ impl<
         &mut self,
         i: u32,
         fresh_only: bool,
-        horizon: f64,
+        horizon: Option<Quotient>,
     ) -> ([Candidate; 2], bool, bool) {
         let own = own_lanes(&self.m.bodies[i as usize]);
-        let Screened { near, beyond } = if horizon == f64::INFINITY {
-            self.screen_all(i, fresh_only, own)
-        } else {
-            self.screen(i, fresh_only, horizon, own)
+        let Screened { near, beyond } = match horizon {
+            None => self.screen_all(i, fresh_only, own),
+            Some(horizon) => self.screen(i, fresh_only, horizon, own),
         };
         #[cfg(test)]
         {
@@ -260,10 +259,10 @@ impl<
 
     /// The first pass of a prediction: every entry's relative motion from now, four entries
     /// at a time, with no branch on what it loads. The approaching ones (`r0 · v < 0`) go to
-    /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`: rule 6 of
-    /// docs/derivations/simulation.md, "Why no collision is missed"), which are left out and
-    /// noted (`Screened::beyond`).
-    fn screen(&mut self, i: u32, fresh_only: bool, horizon: f64, own: Own) -> Screened {
+    /// `near`, except those that cannot meet within `horizon` (`c + 2bτ > 0`, multiplied by
+    /// the horizon's denominator: rule 6 of docs/derivations/simulation.md, "Why no collision
+    /// is missed"), which are left out and noted (`Screened::beyond`).
+    fn screen(&mut self, i: u32, fresh_only: bool, horizon: Quotient, own: Own) -> Screened {
         let (ri, vi) = own;
         let list = if fresh_only {
             &self.fresh[..]
@@ -277,7 +276,7 @@ impl<
         }
         let near = &mut self.near;
         let g = vector_lanes(self.m.g);
-        let twice_horizon = f64x4::splat(2.0 * horizon);
+        let (twice_num, den) = (f64x4::splat(2.0 * horizon.num), f64x4::splat(horizon.den));
         // SAFETY: only list entries (the tail's lanes past its end repeat its last).
         let motion = |e: u32| unsafe {
             relative::<GRAVITY>(&self.m.bodies, &self.shift, (ri, vi), now, g, e)
@@ -302,25 +301,20 @@ impl<
                 motion(four[2]),
                 motion(four[3]),
             ];
-            // The four entries' `b = r0 · v` and `r0 · (r0 + 2τv) = c + 2bτ + D²` at once, in
-            // lanes: the same sums as `DVec3::dot`, in the same order (`b` to the bit as
-            // before the horizon).
+            // The four entries' `b = r0 · v` and `(c + 2bτ) den` at once, in lanes: `b` the
+            // same sums as `DVec3::dot`, in the same order (to the bit as before the horizon).
             let [x, y, z, _] = f64x4::transpose([a[0].r0, a[1].r0, a[2].r0, a[3].r0]);
             let [vx, vy, vz, d] = f64x4::transpose([a[0].v, a[1].v, a[2].v, a[3].v]);
             let b = (x * vx + y * vy) + z * vz;
-            let (wx, wy, wz) = (
-                vx.mul_add(twice_horizon, x),
-                vy.mul_add(twice_horizon, y),
-                vz.mul_add(twice_horizon, z),
-            );
-            let e = (x * wx + y * wy) + z * wz;
+            let c = z.mul_add(z, y.mul_add(y, x * x)) - d * d;
+            let e = c.mul_add(den, twice_num * b);
             let mut approaching = b.simd_lt(f64x4::ZERO).to_bitmask() & valid;
             if R::REPORT_ONLY {
                 for (k, a) in a.iter().enumerate() {
                     approaching &= !(u32::from(touching(&self.responder, i, a)) << k);
                 }
             }
-            let late = e.simd_gt(d * d).to_bitmask();
+            let late = e.simd_gt(f64x4::ZERO).to_bitmask();
             // The entries kept moved to the front, in order, and written at once (all four:
             // the next group overwrites those not kept; `near` has room for the list rounded
             // up, and a pass writes no more than it reads).
