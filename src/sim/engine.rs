@@ -28,6 +28,7 @@ use crate::contact::Body;
 use crate::shape::ShapeKind;
 use crate::statics::Statics;
 
+mod ahead;
 #[cfg(test)]
 mod brute_check;
 mod lists;
@@ -122,6 +123,9 @@ pub(crate) struct Engine<
     old: Vec<u32>,
     /// A prediction's list entries to answer (the approaching neighbours).
     near: Vec<u32>,
+    /// Whether each event also asks ahead for the next sphere's neighbours
+    /// (`ahead::FETCH_NEIGHBOURS_FROM`).
+    fetch_neighbours: bool,
     /// Whether a sphere is at most once in any list (three cells a side, or an open domain),
     /// so that a rebuild may predict the entries new to it alone.
     once_per_list: bool,
@@ -224,6 +228,7 @@ impl<
             shift: neighbours::shift_lanes(lists::shifts(cells.len, PERIODIC)),
             stencil: neighbours::StencilTable::new(&cells, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
+            fetch_neighbours: n >= ahead::FETCH_NEIGHBOURS_FROM,
             best: vec![Best::default(); n],
             cells,
             queue: Calendar::new(1.0, 2, n, 0.0),
@@ -336,7 +341,11 @@ impl<
             {
                 self.scheduled[i as usize] = f64::INFINITY;
             }
+            self.fetch_next();
             self.step(i);
+            if self.fetch_neighbours {
+                self.fetch_next_neighbours();
+            }
             if let Some(s) = self.outcome.collapsing.take() {
                 return Err(SimError::Collapse {
                     time: self.now,

@@ -28,6 +28,13 @@ impl Runs {
         &self.slots[start..start + self.count[o] as usize]
     }
 
+    /// Owner `o`'s slots, used or not (where its run will be read).
+    #[inline(always)]
+    pub fn room(&self, o: usize) -> &[u32] {
+        let start = o * self.cap;
+        &self.slots[start..start + self.cap]
+    }
+
     /// Appends `v` to owner `o`'s run; returns its slot in the run.
     #[inline]
     pub fn push(&mut self, o: usize, v: u32) -> usize {

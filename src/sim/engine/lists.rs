@@ -238,6 +238,12 @@ impl NeighbourLists {
         self.entries.of(i as usize)
     }
 
+    /// Sphere `i`'s list slots, used or not.
+    #[inline(always)]
+    pub fn room(&self, i: u32) -> &[u32] {
+        self.entries.room(i as usize)
+    }
+
     /// Adds an entry to sphere `i`'s list.
     #[inline]
     pub fn push(&mut self, i: u32, e: u32) {
