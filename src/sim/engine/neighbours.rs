@@ -492,10 +492,8 @@ impl<
         let si = self.lists.centre[i as usize];
         let far = self.lists.far * self.lists.far;
         let Stencil {
-            part,
-            code,
+            axes: [ax, ay, az],
             gap,
-            inside,
         } = self.stencil.around(&self.cells, ci, si.c);
         let (cells, spilled) = (&self.cells, &mut self.spilled);
         let records = cells.records();
@@ -507,17 +505,17 @@ impl<
         for z in 0..3 {
             for y in 0..3 {
                 // What a row's three cells share.
-                let row = part[2][z] + part[1][y];
-                let row_code = code[2][z] + code[1][y];
+                let row = az.part[z] + ay.part[y];
+                let row_code = az.code[z] + ay.code[y];
                 let row_gap = gap[2][z] + gap[1][y];
-                let row_inside = inside[2][z] & inside[1][y];
-                for x in 0..3 {
+                let row_inside = az.inside[z] & ay.inside[y];
+                for (x, gap_x) in gap[0].into_iter().enumerate() {
                     // A cell beyond an open domain's edge, or farther than the widest reach,
                     // holds nobody within reach: its copy (of cell 0 instead, beyond an edge)
                     // is not counted.
-                    let near = row_inside & inside[0][x] & (row_gap + gap[0][x] <= far);
-                    let code = row_code + code[0][x];
-                    let cell = row + part[0][x];
+                    let near = row_inside & ax.inside[x] & (row_gap + gap_x <= far);
+                    let code = row_code + ax.code[x];
+                    let cell = row + ax.part[x];
                     let record = &records[cell];
                     // The record's eight lanes as entries (`entry`, lane by lane), at once;
                     // `len` is at most 26 records' worth, so the mask changes nothing and
@@ -582,27 +580,26 @@ const GATHER_MASK: usize = 255;
 
 /// The 3 × 3 × 3 cells around a shell centre, per axis and offset −1, 0, +1: a cell's index,
 /// shift code, gap and whether it is inside the domain are sums (and) of its three axes' parts.
-struct Stencil {
-    /// The axis' part of the cell index: the wrapped coordinate times the axis' stride (0
-    /// outside an open domain: cell 0 stands in).
-    part: [[usize; 3]; 3],
-    /// The axis' part of the shift code: its digit (0, 1, 2 for −1, 0, +1 box lengths) times
-    /// 1, 3 or 9.
-    code: [[u8; 3]; 3],
+struct Stencil<'a> {
+    /// Each axis' parts, borrowed from the table (a copy through the stack, stored and
+    /// reloaded in pieces of other widths, stalled every rebuild on the store buffer).
+    axes: [&'a AxisPart; 3],
     /// The squared distance from the centre to the neighbour cell's slab: a lower bound for
     /// any centre in it, or its image. A cell farther than the widest reach holds nobody within
     /// reach (`far` has a margin above the faces' rounding).
     gap: [[f64; 3]; 3],
-    /// Whether the axis' coordinate is inside the domain (always, periodic).
-    inside: [[bool; 3]; 3],
 }
 
-/// One axis' part of the stencil around a cell coordinate: the index parts, code parts and
-/// inside flags of offsets −1, 0, +1.
+/// One axis' part of the stencil around a cell coordinate, for offsets −1, 0, +1.
 #[derive(Debug, Clone, Copy, Default)]
 struct AxisPart {
+    /// The axis' part of the cell index: the wrapped coordinate times the axis' stride (0
+    /// outside an open domain: cell 0 stands in).
     part: [usize; 3],
+    /// The axis' part of the shift code: its digit (0, 1, 2 for −1, 0, +1 box lengths) times
+    /// 1, 3 or 9.
     code: [u8; 3],
+    /// Whether the axis' coordinate is inside the domain (always, periodic).
     inside: [bool; 3],
 }
 
@@ -655,21 +652,17 @@ impl StencilTable {
 
     /// The stencil around centre `c`, in cell `ci`.
     #[inline]
-    fn around(&self, cells: &Cells, ci: [i32; 3], c: DVec3) -> Stencil {
-        let mut st = Stencil {
-            part: [[0; 3]; 3],
-            code: [[0; 3]; 3],
-            gap: [[0.0; 3]; 3],
-            inside: [[true; 3]; 3],
-        };
-        for k in 0..3 {
+    fn around(&self, cells: &Cells, ci: [i32; 3], c: DVec3) -> Stencil<'_> {
+        let gap = |k: usize| {
             let below = c[k] - (cells.lo[k] + f64::from(ci[k]) * cells.w[k]);
             let above = cells.w[k] - below;
-            st.gap[k] = [below * below, 0.0, above * above];
-            let axis = self.axes[k][ci[k] as usize];
-            (st.part[k], st.code[k], st.inside[k]) = (axis.part, axis.code, axis.inside);
+            [below * below, 0.0, above * above]
+        };
+        let axis = |k: usize| &self.axes[k][ci[k] as usize];
+        Stencil {
+            axes: [axis(0), axis(1), axis(2)],
+            gap: [gap(0), gap(1), gap(2)],
         }
-        st
     }
 }
 
