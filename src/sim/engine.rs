@@ -83,6 +83,12 @@ impl Best {
         self.pairs[0].t.min(self.wall_t).min(self.shell_t)
     }
 
+    /// Whether the sphere's next event is leaving its shell (ties go to the shell).
+    #[inline]
+    fn leaves_shell_first(&self) -> bool {
+        self.shell_t <= self.pairs[0].t && self.shell_t <= self.wall_t
+    }
+
     /// The shape of the earliest static-shape contact.
     #[inline]
     fn wall(&self) -> Body {
@@ -342,6 +348,9 @@ impl<
                 self.scheduled[i as usize] = f64::INFINITY;
             }
             self.fetch_next();
+            if self.fetch_neighbours {
+                self.fetch_partner_neighbours(i);
+            }
             self.step(i);
             if self.fetch_neighbours {
                 self.fetch_next_neighbours();
@@ -378,7 +387,7 @@ impl<
     #[inline]
     fn step(&mut self, i: u32) {
         let b = self.best[i as usize];
-        if b.shell_t <= b.pairs[0].t && b.shell_t <= b.wall_t {
+        if b.leaves_shell_first() {
             self.leave_shell(i);
         } else if b.pairs[0].t <= b.wall_t {
             let c = b.pairs[0];

@@ -205,6 +205,22 @@ impl Calendar {
         }
     }
 
+    /// Where sphere `i`'s slot and version lie, which moving its bucket into the heap reads
+    /// (for fetching them ahead; `None` past the last sphere).
+    #[inline]
+    pub fn lines_of(&self, i: u32) -> Option<[*const u8; 2]> {
+        let slot = self.slots.get(i as usize)?;
+        let version = self.version.get(i as usize)?;
+        Some([(slot as *const Slot).cast(), (version as *const u32).cast()])
+    }
+
+    /// The sphere after `i` in its bucket's list, if `i` is in a list and not its last.
+    #[inline]
+    pub fn linked_after(&self, i: u32) -> Option<u32> {
+        let s = self.slots.get(i as usize)?;
+        (s.prev != UNLINKED && s.next != NIL).then_some(s.next)
+    }
+
     #[inline]
     fn entry(&self, i: u32) -> Entry {
         Entry::new(self.slots[i as usize].t, i, self.version[i as usize])
@@ -321,6 +337,30 @@ mod tests {
         assert_eq!(c.likely_next(), Some(3));
         assert_eq!(c.pop(), Some((1.7, 3)));
         assert_eq!(c.likely_next(), None);
+    }
+
+    /// `linked_after` walks a bucket's list as `advance` will (last scheduled first) and
+    /// stops at its end, and says nothing of an event already in the heap; `lines_of` names a
+    /// sphere's own slot and version, and nothing past the last sphere.
+    #[test]
+    fn linked_after_follows_a_buckets_list() {
+        let mut c = Calendar::new(1.0, 8, 4, 0.0);
+        for i in [0, 1, 2] {
+            c.schedule(i, 1.5 + f64::from(i) * 0.1);
+        }
+        c.schedule(3, 2.5);
+        assert_eq!(c.likely_next(), Some(2));
+        assert_eq!(c.linked_after(2), Some(1));
+        assert_eq!(c.linked_after(1), Some(0));
+        assert_eq!(c.linked_after(0), None);
+        assert_eq!(c.linked_after(3), None);
+        assert_eq!(c.linked_after(4), None);
+        assert_eq!(c.pop(), Some((1.5, 0)));
+        assert_eq!(c.linked_after(2), None, "in the heap now");
+        let [slot, version] = c.lines_of(1).expect("sphere 1 has a slot");
+        assert_eq!(slot, (&c.slots[1] as *const Slot).cast());
+        assert_eq!(version, (&c.version[1] as *const u32).cast());
+        assert!(c.lines_of(4).is_none());
     }
 
     /// An entry gives back its time, sphere and version to the bit, and entries order as

@@ -1,16 +1,26 @@
 //! Fetching ahead: while an event runs, the caches are asked for the records of the sphere
 //! whose event most likely comes next (the calendar's hint), so that at N = 10⁵, where each
 //! is a miss to memory, they arrive while this event's work goes on instead of stalling the
-//! next one (docs/benchmarks.md, "Fetching ahead"). A wrong hint costs a few loads.
+//! next one (docs/benchmarks.md, "Fetching ahead" and "Fetching the rebuild ahead"). A wrong
+//! hint costs a few loads.
+//!
+//! The stages, each a level of the chain of loads the next event will follow: before an
+//! event, the next sphere's own records (`fetch_next`); after it, what those records name —
+//! its neighbours' bodies, its partner's records, and the cells its list's rebuild will scan
+//! (`fetch_next_neighbours`); at the next event, what those name in turn — the partner's
+//! neighbours' bodies (`fetch_partner_neighbours`) and the scanned cells' members' shells
+//! (`fetch_gathered_shells`). All but the first run only from `FETCH_NEIGHBOURS_FROM`
+//! spheres.
 
 use super::*;
 
-/// From how many spheres each event also asks for the next sphere's neighbours' bodies and
-/// its partner's records (`fetch_next_neighbours`): at N = 32 000, φ = 0.25 (9 MB of records)
-/// that cost 4.5 % (its instructions; the lines were in the caches already), at
-/// N = 108 000 (32 MB, this machine's whole L3) it gained 7 % (docs/benchmarks.md).
+/// From how many spheres each event also asks ahead for the next sphere's neighbours, its
+/// partner's records and, before a rebuild, the cells and candidates it reads
+/// (`fetch_next_neighbours` and the rest): measured at φ = 0.25 against none of them, it cost
+/// 15 % at N = 4000, 9 % at 8000 and 4 % at 16 000 (the lines were in the caches already) and
+/// gained 6 % at 32 000 (docs/benchmarks.md, "Fetching the rebuild ahead").
 #[cfg(not(test))]
-pub(super) const FETCH_NEIGHBOURS_FROM: usize = 64_000;
+pub(super) const FETCH_NEIGHBOURS_FROM: usize = 24_000;
 /// In tests, from 64 spheres: the gases of the brute-force checks run it, the smallest
 /// scenes do not.
 #[cfg(test)]
@@ -46,8 +56,8 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
-    /// Asks for the prediction, body and list of the sphere whose event most likely
-    /// comes next.
+    /// Asks for the prediction, body, list and calendar slot of the sphere whose event most
+    /// likely comes next.
     #[inline(always)]
     pub(super) fn fetch_next(&self) {
         let Some(next) = self.queue.likely_next() else {
@@ -59,11 +69,24 @@ impl<
             prefetch(&self.m.bodies[n]);
             let room = self.lists.room(next);
             prefetch_bytes(room.as_ptr().cast(), std::mem::size_of_val(room));
+            self.fetch_calendar_lines(next);
+        }
+    }
+
+    /// Sphere `i`'s calendar slot and version, read when its bucket moves into the heap.
+    #[inline(always)]
+    fn fetch_calendar_lines(&self, i: u32) {
+        if let Some(lines) = self.queue.lines_of(i) {
+            for line in lines {
+                prefetch_bytes(line.cast(), 1);
+            }
         }
     }
 
     /// Once `fetch_next`'s lines have most likely come: the bodies of that sphere's list
-    /// entries, and the records of its likely partner.
+    /// entries, the calendar slot of the one after it in its bucket, the records of its likely
+    /// partner and, when it is about to leave its shell, the cells its list's rebuild will
+    /// read.
     #[inline(always)]
     pub(super) fn fetch_next_neighbours(&self) {
         let Some(next) = self.queue.likely_next() else {
@@ -73,17 +96,81 @@ impl<
         if n >= self.best.len() {
             return;
         }
-        for &e in self.lists.of(next) {
-            if let Some(b) = self.m.bodies.get((e >> lists::CODE_BITS) as usize) {
-                prefetch(b);
-            }
+        self.fetch_list_bodies(next);
+        if let Some(after) = self.queue.linked_after(next) {
+            self.fetch_calendar_lines(after);
         }
-        let j = self.best[n].pairs[0].j as usize;
+        let best = &self.best[n];
+        if best.leaves_shell_first() {
+            self.fetch_cells_at(n, best.shell_t);
+        }
+        let j = best.pairs[0].j as usize;
         if j < self.best.len() {
             prefetch(&self.best[j]);
             prefetch(&self.m.bodies[j]);
             let room = self.lists.room(j as u32);
             prefetch_bytes(room.as_ptr().cast(), std::mem::size_of_val(room));
+        }
+    }
+
+    /// Before sphere `i`'s event: when it is a collision, the bodies of the partner's list
+    /// entries (its records were asked for by the event before), which its prediction reads
+    /// after `i`'s.
+    #[inline(always)]
+    pub(super) fn fetch_partner_neighbours(&self, i: u32) {
+        let Some(best) = self.best.get(i as usize) else {
+            return;
+        };
+        if best.leaves_shell_first() || best.pairs[0].t > best.wall_t {
+            return;
+        }
+        if (best.pairs[0].j as usize) < self.best.len() {
+            self.fetch_list_bodies(best.pairs[0].j);
+        }
+    }
+
+    /// The bodies of sphere `i`'s list entries, which its prediction reads.
+    #[inline(always)]
+    fn fetch_list_bodies(&self, i: u32) {
+        for &e in self.lists.of(i) {
+            if let Some(b) = self.m.bodies.get((e >> lists::CODE_BITS) as usize) {
+                prefetch(b);
+            }
+        }
+    }
+
+    /// The shells of the first `len` candidates `cells_near` gathered, asked for in one tight
+    /// loop so that they come together rather than a few at a time as `within_reach`'s longer
+    /// loop reaches them.
+    #[inline(always)]
+    pub(super) fn fetch_gathered_shells(&self, len: usize) {
+        for &e in &self.gathered[..len] {
+            if let Some(shell) = self.lists.centre.get((e >> lists::CODE_BITS) as usize) {
+                prefetch(shell);
+            }
+        }
+    }
+
+    /// The records of the 27 cells around where sphere `n` will be at time `t` (ignoring
+    /// gravity's curve: a hint), which a rebuild of its list then reads.
+    #[inline(always)]
+    fn fetch_cells_at(&self, n: usize, t: f64) {
+        let body = &self.m.bodies[n];
+        let mut r = body.r + body.v * (t - body.t);
+        if PERIODIC {
+            let len = self.cells.len;
+            r -= len * (r / len).floor();
+        }
+        let [x, y, z] = self.stencil.cell_parts(self.cells.coords_of(r));
+        let records = self.cells.records();
+        for pz in z {
+            for py in y {
+                for px in x {
+                    if let Some(record) = records.get(pz + py + px) {
+                        prefetch(record);
+                    }
+                }
+            }
         }
     }
 }

@@ -429,6 +429,9 @@ impl<
     /// the 27 cells are copied out (`cells_near`), then each is tested, in lanes of four.
     fn within_reach(&mut self, i: u32, ci: [i32; 3]) -> usize {
         let candidates = self.cells_near(i, ci);
+        if self.fetch_neighbours {
+            self.fetch_gathered_shells(candidates);
+        }
         let centre = &self.lists.centre[..];
         let si = centre[i as usize];
         // Lane by lane the operations of `(cⱼ − cᵢ) + shift` on vectors, in the same order:
@@ -650,6 +653,14 @@ impl StencilTable {
             .sum()
     }
 
+    /// The indices of the 27 cells around cell `ci` (each axis' three parts, summed as in
+    /// `cells_near`): for fetching ahead.
+    #[inline]
+    pub(super) fn cell_parts(&self, ci: [i32; 3]) -> [[usize; 3]; 3] {
+        let part = |k: usize| self.axes[k][ci[k] as usize].part;
+        [part(0), part(1), part(2)]
+    }
+
     /// The stencil around centre `c`, in cell `ci`.
     #[inline]
     fn around(&self, cells: &Cells, ci: [i32; 3], c: DVec3) -> Stencil<'_> {
@@ -704,6 +715,27 @@ mod tests {
     }
 
     /// Every mask's shuffle puts the lanes it sets first, in order, as a filter would.
+    /// The cells fetched ahead of a rebuild (`cell_parts`) are the 27 around the cell,
+    /// wrapped, in a periodic grid: each index is that of the neighbour cell's coordinates.
+    #[test]
+    fn the_cells_fetched_ahead_are_the_27_around() {
+        let cells = Cells::new(DVec3::ZERO, DVec3::new(5.0, 4.0, 3.0), 1.0, 1000);
+        assert_eq!(cells.n, [5, 4, 3]);
+        let table = StencilTable::new(&cells, true);
+        for ci in [[0, 0, 0], [4, 3, 2], [2, 1, 1]] {
+            let [x, y, z] = table.cell_parts(ci);
+            for (dz, pz) in (-1..=1).zip(z) {
+                for (dy, py) in (-1..=1).zip(y) {
+                    for (dx, px) in (-1..=1).zip(x) {
+                        let wrap = |k: usize, d: i32| (ci[k] + d).rem_euclid(cells.n[k]);
+                        let c = [wrap(0, dx), wrap(1, dy), wrap(2, dz)];
+                        assert_eq!(pz + py + px, cells.index(c), "{ci:?} + {dx},{dy},{dz}");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn kept_first_moves_the_kept_lanes_to_the_front_in_order() {
         let four = [11, 22, 33, 44];
