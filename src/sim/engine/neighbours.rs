@@ -714,7 +714,6 @@ mod tests {
         assert!(text.contains("names no sphere"), "{text}");
     }
 
-    /// Every mask's shuffle puts the lanes it sets first, in order, as a filter would.
     /// The cells fetched ahead of a rebuild (`cell_parts`) are the 27 around the cell,
     /// wrapped, in a periodic grid: each index is that of the neighbour cell's coordinates.
     #[test]
@@ -736,6 +735,7 @@ mod tests {
         }
     }
 
+    /// Every mask's shuffle puts the lanes it sets first, in order, as a filter would.
     #[test]
     fn kept_first_moves_the_kept_lanes_to_the_front_in_order() {
         let four = [11, 22, 33, 44];
