@@ -216,7 +216,7 @@ fn motion(world: &World, cells: &Cells, periodic: bool) -> Motion {
     for s in &world.spheres {
         let mut r = s.centre;
         if periodic {
-            r -= cells.len * (r / cells.len).floor();
+            r = cells.wrap(r);
             // `x − L·floor(x/L)` can round up to `L`.
             r = r.min(cells.len * (1.0 - f64::EPSILON));
         }

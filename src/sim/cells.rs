@@ -86,6 +86,13 @@ impl Cells {
         }
     }
 
+    /// Point `p` taken into the periodic box `[0, len)` by whole box lengths (`x − L·floor(x/L)`,
+    /// which can round up to `L` itself).
+    #[inline]
+    pub fn wrap(&self, p: DVec3) -> DVec3 {
+        p - self.len * (p / self.len).floor()
+    }
+
     /// The (clamped) cell coordinates of a point.
     #[inline]
     pub fn coords_of(&self, p: DVec3) -> [i32; 3] {

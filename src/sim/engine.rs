@@ -77,16 +77,33 @@ impl Default for Best {
     }
 }
 
+/// The kinds of a sphere's pending event (`Best::next_event`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum NextEvent {
+    /// Leaving its shell: its list is rebuilt.
+    Shell,
+    /// Meeting `pairs[0]`'s sphere.
+    Pair,
+    /// Meeting a static shape.
+    Wall,
+}
+
 impl Best {
     #[inline]
     fn time(&self) -> f64 {
         self.pairs[0].t.min(self.wall_t).min(self.shell_t)
     }
 
-    /// Whether the sphere's next event is leaving its shell (ties go to the shell).
+    /// Which of its events the sphere meets first (ties go to the shell, then the pair).
     #[inline]
-    fn leaves_shell_first(&self) -> bool {
-        self.shell_t <= self.pairs[0].t && self.shell_t <= self.wall_t
+    fn next_event(&self) -> NextEvent {
+        if self.shell_t <= self.pairs[0].t && self.shell_t <= self.wall_t {
+            NextEvent::Shell
+        } else if self.pairs[0].t <= self.wall_t {
+            NextEvent::Pair
+        } else {
+            NextEvent::Wall
+        }
     }
 
     /// The shape of the earliest static-shape contact.
@@ -387,23 +404,23 @@ impl<
     #[inline]
     fn step(&mut self, i: u32) {
         let b = self.best[i as usize];
-        if b.leaves_shell_first() {
-            self.leave_shell(i);
-        } else if b.pairs[0].t <= b.wall_t {
-            let c = b.pairs[0];
-            if self.m.counter[c.j as usize] == c.counter {
-                self.collide_pair(i, c.j);
-            } else {
-                // The partner changed: its own prediction covers this pair. The next kept
-                // candidate takes over, or, if none is left and some were not kept, predict.
-                self.stats.stale += 1;
-                if self.prune(i) {
-                    self.predict(i);
+        match b.next_event() {
+            NextEvent::Shell => self.leave_shell(i),
+            NextEvent::Pair => {
+                let c = b.pairs[0];
+                if self.m.counter[c.j as usize] == c.counter {
+                    self.collide_pair(i, c.j);
+                } else {
+                    // The partner changed: its own prediction covers this pair. The next kept
+                    // candidate takes over, or, if none is left and some were not kept, predict.
+                    self.stats.stale += 1;
+                    if self.prune(i) {
+                        self.predict(i);
+                    }
+                    self.schedule(i);
                 }
-                self.schedule(i);
             }
-        } else {
-            self.collide_wall(i, b.wall());
+            NextEvent::Wall => self.collide_wall(i, b.wall()),
         }
     }
 
@@ -692,8 +709,7 @@ impl<
                 (b.r + b.v * (self.now - b.t), b.v)
             };
             if PERIODIC {
-                let len = self.cells.len;
-                r -= len * (r / len).floor();
+                r = self.cells.wrap(r);
             }
             out[id as usize] = Trajectory {
                 r,

@@ -101,7 +101,7 @@ impl<
             self.fetch_calendar_lines(after);
         }
         let best = &self.best[n];
-        if best.leaves_shell_first() {
+        if best.next_event() == NextEvent::Shell {
             self.fetch_cells_at(n, best.shell_t);
         }
         let j = best.pairs[0].j as usize;
@@ -121,10 +121,7 @@ impl<
         let Some(best) = self.best.get(i as usize) else {
             return;
         };
-        if best.leaves_shell_first() || best.pairs[0].t > best.wall_t {
-            return;
-        }
-        if (best.pairs[0].j as usize) < self.best.len() {
+        if best.next_event() == NextEvent::Pair && (best.pairs[0].j as usize) < self.best.len() {
             self.fetch_list_bodies(best.pairs[0].j);
         }
     }
@@ -133,7 +130,7 @@ impl<
     #[inline(always)]
     fn fetch_list_bodies(&self, i: u32) {
         for &e in self.lists.of(i) {
-            if let Some(b) = self.m.bodies.get((e >> lists::CODE_BITS) as usize) {
+            if let Some(b) = self.m.bodies.get(lists::split(e).0 as usize) {
                 prefetch(b);
             }
         }
@@ -145,7 +142,7 @@ impl<
     #[inline(always)]
     pub(super) fn fetch_gathered_shells(&self, len: usize) {
         for &e in &self.gathered[..len] {
-            if let Some(shell) = self.lists.centre.get((e >> lists::CODE_BITS) as usize) {
+            if let Some(shell) = self.lists.centre.get(lists::split(e).0 as usize) {
                 prefetch(shell);
             }
         }
@@ -158,8 +155,7 @@ impl<
         let body = &self.m.bodies[n];
         let mut r = body.r + body.v * (t - body.t);
         if PERIODIC {
-            let len = self.cells.len;
-            r -= len * (r / len).floor();
+            r = self.cells.wrap(r);
         }
         let [x, y, z] = self.stencil.cell_parts(self.cells.coords_of(r));
         let records = self.cells.records();

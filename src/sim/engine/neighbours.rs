@@ -657,8 +657,14 @@ impl StencilTable {
     /// `cells_near`): for fetching ahead.
     #[inline]
     pub(super) fn cell_parts(&self, ci: [i32; 3]) -> [[usize; 3]; 3] {
-        let part = |k: usize| self.axes[k][ci[k] as usize].part;
-        [part(0), part(1), part(2)]
+        self.axes_at(ci).map(|axis| axis.part)
+    }
+
+    /// Each axis' parts at cell `ci`.
+    #[inline]
+    fn axes_at(&self, ci: [i32; 3]) -> [&AxisPart; 3] {
+        let axis = |k: usize| &self.axes[k][ci[k] as usize];
+        [axis(0), axis(1), axis(2)]
     }
 
     /// The stencil around centre `c`, in cell `ci`.
@@ -669,9 +675,8 @@ impl StencilTable {
             let above = cells.w[k] - below;
             [below * below, 0.0, above * above]
         };
-        let axis = |k: usize| &self.axes[k][ci[k] as usize];
         Stencil {
-            axes: [axis(0), axis(1), axis(2)],
+            axes: self.axes_at(ci),
             gap: [gap(0), gap(1), gap(2)],
         }
     }
