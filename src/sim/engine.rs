@@ -504,15 +504,17 @@ impl<
         if depth > self.stats.max_overlap * d {
             self.stats.max_overlap = self.stats.max_overlap.max(depth / d);
         }
-        let mut out = std::mem::take(&mut self.outcome).cleared();
-        self.responder.pair(&mut self.m, i, j, dr, now, &mut out);
+        self.outcome.clear();
+        self.responder
+            .pair(&mut self.m, i, j, dr, now, &mut self.outcome);
         // This event consumed `i`'s calendar entry: `i` is predicted again even when its
         // velocity did not change (a cluster stuck to a shape has infinite mass).
-        if !out.changed.contains(&i) {
-            out.changed.push(i);
+        let changed = &mut self.outcome.changed;
+        if !changed.contains(&i) {
+            changed.push(i);
         }
         self.stats.pair_collisions += 1;
-        self.account(&out);
+        self.account();
         if let Some(log) = &mut self.log {
             let geometry = GEOMETRY.then(|| {
                 let n = dr.normalize();
@@ -523,17 +525,11 @@ impl<
                 now,
                 a,
                 Body::new(ShapeKind::Sphere, b),
-                &out,
+                &self.outcome,
                 geometry,
             ));
         }
-        for &s in &out.changed {
-            self.predict(s);
-        }
-        for &s in &out.changed {
-            self.schedule(s);
-        }
-        self.outcome = out;
+        self.renew_changed();
     }
 
     fn collide_wall(&mut self, i: u32, wall: Body) {
@@ -547,7 +543,7 @@ impl<
         } else {
             self.walls.floor(wall, bi.radius, gap, bi.v.length(), now)
         };
-        let mut out = std::mem::take(&mut self.outcome).cleared();
+        self.outcome.clear();
         let hop = if GRAVITY {
             super::walls::hop_speed(self.m.g, n, bi.r, bi.radius, self.rest_time)
         } else {
@@ -559,29 +555,38 @@ impl<
             floor,
             hop,
         };
-        self.responder.wall(&mut self.m, i, contact, now, &mut out);
+        self.responder
+            .wall(&mut self.m, i, contact, now, &mut self.outcome);
         self.stats.wall_collisions += 1;
-        self.account(&out);
+        self.account();
         if let Some(log) = &mut self.log {
             let geometry = GEOMETRY.then(|| (bi.r - n * bi.radius, n));
             log.push(EventRecord::new(
                 now,
                 self.id_of[i as usize],
                 wall,
-                &out,
+                &self.outcome,
                 geometry,
             ));
         }
-        for &s in &out.changed {
-            self.predict(s);
-        }
-        for &s in &out.changed {
-            self.schedule(s);
-        }
-        self.outcome = out;
+        self.renew_changed();
     }
 
-    fn account(&mut self, out: &Outcome) {
+    /// Predicts every sphere the collision changed (`outcome.changed`), then schedules each:
+    /// the one tail of a pair and a wall collision.
+    #[inline]
+    fn renew_changed(&mut self) {
+        for k in 0..self.outcome.changed.len() {
+            self.predict(self.outcome.changed[k]);
+        }
+        for k in 0..self.outcome.changed.len() {
+            self.schedule(self.outcome.changed[k]);
+        }
+    }
+
+    /// Adds the collision's outcome to the run's statistics.
+    fn account(&mut self) {
+        let out = &self.outcome;
         self.stats.energy_lost += out.energy_lost;
         self.stats.virial += out.virial;
         self.stats.joins += u64::from(out.joined);

@@ -103,14 +103,15 @@ pub(crate) struct Outcome {
 pub(crate) const RAPID_LIMIT: u32 = 100_000;
 
 impl Outcome {
-    /// An empty outcome that keeps `changed`'s buffer.
+    /// Empties the outcome for the next collision, keeping `changed`'s buffer.
     #[inline]
-    pub fn cleared(mut self) -> Self {
-        self.changed.clear();
-        Self {
-            changed: self.changed,
+    pub fn clear(&mut self) {
+        let mut changed = std::mem::take(&mut self.changed);
+        changed.clear();
+        *self = Self {
+            changed,
             ..Self::default()
-        }
+        };
     }
 }
 
