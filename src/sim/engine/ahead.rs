@@ -148,12 +148,11 @@ impl<
         }
     }
 
-    /// The records of the 27 cells around where sphere `n` will be at time `t` (ignoring
-    /// gravity's curve: a hint), which a rebuild of its list then reads.
+    /// The records of the 27 cells around where sphere `n` will be at time `t`, which a
+    /// rebuild of its list then reads.
     #[inline(always)]
     fn fetch_cells_at(&self, n: usize, t: f64) {
-        let body = &self.m.bodies[n];
-        let mut r = body.r + body.v * (t - body.t);
+        let (mut r, _) = self.m.bodies[n].at(t, self.m.g);
         if PERIODIC {
             r = self.cells.wrap(r);
         }
