@@ -210,7 +210,7 @@ fn motion(world: &World, cells: &Cells, periodic: bool) -> Motion {
         bodies: Vec::with_capacity(n),
         mass: world.spheres.iter().map(|s| s.mass).collect(),
         material: world.spheres.iter().map(|s| s.material).collect(),
-        counter: vec![0; n],
+        counter: super::pages::filled(0, n),
         g: world.effects.gravity,
     };
     for s in &world.spheres {
@@ -227,6 +227,7 @@ fn motion(world: &World, cells: &Cells, periodic: bool) -> Motion {
             radius: s.radius,
         });
     }
+    super::pages::settle(&m.bodies);
     m
 }
 

@@ -81,7 +81,7 @@ impl Cells {
             w,
             len: extent,
             inv_len: 1.0 / extent,
-            cells: vec![Cell::default(); cells],
+            cells: super::pages::filled(Cell::default(), cells),
             spill: HashMap::new(),
         }
     }

@@ -238,21 +238,17 @@ impl<
         rest_time: f64,
     ) -> Self {
         let n = m.bodies.len();
-        let centres = m
-            .bodies
-            .iter()
-            .map(|b| lists::Shell {
-                c: b.r,
-                radius: b.radius,
-            })
-            .collect();
+        let centres = crate::sim::pages::collected(m.bodies.iter().map(|b| lists::Shell {
+            c: b.r,
+            radius: b.radius,
+        }));
         let mut e = Self {
             lists: NeighbourLists::new(delta, centres),
             shift: neighbours::shift_lanes(lists::shifts(cells.len, PERIODIC)),
             stencil: neighbours::StencilTable::new(&cells, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             fetch_neighbours: n >= ahead::FETCH_NEIGHBOURS_FROM,
-            best: vec![Best::default(); n],
+            best: crate::sim::pages::filled(Best::default(), n),
             cells,
             queue: Calendar::new(1.0, 2, n, 0.0),
             now: 0.0,
@@ -765,7 +761,7 @@ impl<
             new_of_old[old as usize] = new as u32;
         }
         fn take<T: Copy>(v: &[T], order: &[u32]) -> Vec<T> {
-            order.iter().map(|&o| v[o as usize]).collect()
+            crate::sim::pages::collected(order.iter().map(|&o| v[o as usize]))
         }
         self.m.bodies = take(&self.m.bodies, &order);
         self.m.mass = take(&self.m.mass, &order);

@@ -31,6 +31,7 @@ pub mod generate;
 mod invariant;
 mod model;
 pub mod observables;
+mod pages;
 mod persist;
 mod predict;
 mod queue;

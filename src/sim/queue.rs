@@ -102,11 +102,11 @@ impl Calendar {
         };
         Self {
             inv_width,
-            heads: vec![NIL; nb],
+            heads: super::pages::filled(NIL, nb),
             mask: nb as u64 - 1,
             current: (t0 * inv_width) as u64,
-            slots: vec![empty; spheres],
-            version: vec![0; spheres],
+            slots: super::pages::filled(empty, spheres),
+            version: super::pages::filled(0, spheres),
             heap: BinaryHeap::new(),
             far: Vec::new(),
             len: 0,

@@ -16,8 +16,8 @@ impl Runs {
     pub fn new(owners: usize, cap: usize) -> Self {
         Self {
             cap,
-            count: vec![0; owners],
-            slots: vec![0; owners * cap],
+            count: super::pages::filled(0, owners),
+            slots: super::pages::filled(0, owners * cap),
         }
     }
 
@@ -88,8 +88,8 @@ impl Runs {
 
     /// New owner `new` takes old owner `order[new]`'s run, each value mapped by `map`.
     pub fn permute(&mut self, order: &[u32], map: impl Fn(u32) -> u32) {
-        let mut slots = vec![0u32; self.slots.len()];
-        let mut count = vec![0u32; self.count.len()];
+        let mut slots = super::pages::filled(0u32, self.slots.len());
+        let mut count = super::pages::filled(0u32, self.count.len());
         for (new, &old) in order.iter().enumerate() {
             let run = self.of(old as usize);
             count[new] = run.len() as u32;
@@ -110,7 +110,7 @@ impl Runs {
     #[cold]
     fn grow(&mut self) {
         let cap = self.cap + 1;
-        let mut slots = vec![0u32; self.count.len() * cap];
+        let mut slots = super::pages::filled(0u32, self.count.len() * cap);
         for (o, &c) in self.count.iter().enumerate() {
             let c = c as usize;
             slots[o * cap..o * cap + c]

@@ -271,7 +271,7 @@ impl NeighbourLists {
     /// Renumbers: sphere `new` takes old sphere `order[new]`'s centre and list, whose entries
     /// name spheres by `new_of_old`.
     pub fn permute(&mut self, order: &[u32], new_of_old: &[u32]) {
-        self.centre = order.iter().map(|&o| self.centre[o as usize]).collect();
+        self.centre = crate::sim::pages::collected(order.iter().map(|&o| self.centre[o as usize]));
         self.entries.permute(order, |e| {
             let (j, code) = split(e);
             entry(new_of_old[j as usize], code)
