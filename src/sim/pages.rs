@@ -1,15 +1,13 @@
 //! The engine's large per-sphere arrays on 2 MiB pages where Linux gives them (transparent
 //! huge pages): a collision reads a few dozen spheres' records spread over megabytes, and on
-//! 4 KiB pages those reads also miss the TLB. At N = 108 000 this takes 11–12 % less time a
-//! collision; at N ≤ 32 000 nothing measurable (docs/benchmarks.md, "Huge pages"). Each array is advised (`MADV_HUGEPAGE`) and its
-//! pages gathered into huge ones at once (`MADV_COLLAPSE`, Linux 6.1 on): memory the
-//! allocator reuses was already touched on small pages, which the first advice alone would
-//! leave as they are. The advice changes how the kernel backs the memory, never its contents;
+//! 4 KiB pages those reads also miss the TLB. At N = 108 000 the gas ran 1.02–1.12× faster
+//! over five measurements of a noisy host, at N ≤ 32 000 no measurable change
+//! (docs/benchmarks.md, "Huge pages"). Each array is advised (`MADV_HUGEPAGE`) and its pages
+//! gathered into huge ones at once (`MADV_COLLAPSE`, Linux 6.1 on): memory the allocator
+//! reuses was already touched on small pages, which the first advice alone would leave as
+//! they are. The advice changes how the kernel backs the memory, never its contents;
 //! elsewhere (another system, huge pages off, an older kernel) the arrays are the same, on
 //! small pages.
-
-/// The huge page size on x86-64 (and most aarch64) Linux.
-const HUGE: usize = 2 << 20;
 
 /// Arrays smaller than this are left alone: a small scene's whole state fits the TLB, and
 /// gathering the 2 MiB around each small array would copy megabytes for nothing.
@@ -39,23 +37,25 @@ pub(crate) fn settle<T>(v: &Vec<T>) {
     if bytes < SMALLEST {
         return;
     }
-    let start = v.as_ptr() as usize;
-    let lo = start / HUGE * HUGE;
-    let hi = (start + bytes).next_multiple_of(HUGE);
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    for advice in [libc::MADV_HUGEPAGE, libc::MADV_COLLAPSE] {
-        // SAFETY: `madvise` reads and writes no Rust value: the two advices only mark how the
-        // kernel backs the pages of `[lo, hi)` and move their contents into huge pages
-        // unchanged (unlike `MADV_DONTNEED` or `MADV_FREE`, which would discard them). The
-        // range's whole pages beyond `v` belong to other allocations or to none; they are
-        // left as they were but for their backing, and unmapped parts make the call return
-        // an error, which is ignored. `lo` is page-aligned, as `madvise` requires.
-        unsafe {
-            libc::madvise(lo as *mut libc::c_void, hi - lo, advice);
+    {
+        // The huge page size on x86-64 (and most aarch64) Linux.
+        const HUGE: usize = 2 << 20;
+        let start = v.as_ptr() as usize;
+        let lo = start / HUGE * HUGE;
+        let hi = (start + bytes).next_multiple_of(HUGE);
+        for advice in [libc::MADV_HUGEPAGE, libc::MADV_COLLAPSE] {
+            // SAFETY: `madvise` reads and writes no Rust value: the two advices only mark how
+            // the kernel backs the pages of `[lo, hi)` and move their contents into huge pages
+            // unchanged (unlike `MADV_DONTNEED` or `MADV_FREE`, which would discard them). The
+            // range's whole pages beyond `v` belong to other allocations or to none; they are
+            // left as they were but for their backing, and unmapped parts make the call
+            // return an error, which is ignored. `lo` is page-aligned, as `madvise` requires.
+            unsafe {
+                libc::madvise(lo as *mut libc::c_void, hi - lo, advice);
+            }
         }
     }
-    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-    let _ = (lo, hi);
 }
 
 #[cfg(test)]
