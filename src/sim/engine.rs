@@ -543,6 +543,14 @@ impl<
         self.advance(i);
         let bi = self.m.bodies[i as usize];
         let (n, gap, material) = self.walls.normal_gap(wall, bi.r, bi.radius);
+        #[cfg(test)]
+        if self.checking {
+            // In contact with the shape, not short of it (as for a pair).
+            assert!(
+                gap <= crate::sim::OVERLAP_TOLERANCE * bi.radius,
+                "sphere {i} meets {wall} at t = {now} {gap:e} short of it"
+            );
+        }
         self.stats.max_wall_overlap = self.stats.max_wall_overlap.max(-gap / bi.radius);
         let floor = if self.broken_walls {
             0.0
