@@ -142,6 +142,8 @@ pub(crate) struct Engine<
     spilled: Vec<u32>,
     found: Vec<u32>,
     fresh: Vec<u32>,
+    /// How many of `fresh`'s entries are new (the rest, up to a multiple of four, are zeros).
+    fresh_len: usize,
     /// A rebuild's copy of the list it replaces.
     old: Vec<u32>,
     /// A prediction's list entries to answer (the approaching neighbours).
@@ -260,6 +262,7 @@ impl<
             spilled: Vec::new(),
             found: Vec::new(),
             fresh: Vec::new(),
+            fresh_len: 0,
             old: Vec::new(),
             near: Vec::new(),
             outcome: Outcome::default(),

@@ -3,6 +3,9 @@
 //! swap-remove are O(1), and a full run makes every run one slot longer (a copy of every run,
 //! once for each new longest length: the capacity is the longest run's).
 
+/// Slots after the last run, so that its read in groups of four (`in_fours`) stays inside.
+const PAD: usize = 3;
+
 /// The runs and their lengths.
 #[derive(Debug, Clone)]
 pub(crate) struct Runs {
@@ -17,7 +20,7 @@ impl Runs {
         Self {
             cap,
             count: super::pages::filled(0, owners),
-            slots: super::pages::filled(0, owners * cap),
+            slots: super::pages::filled(0, owners * cap + PAD),
         }
     }
 
@@ -26,6 +29,16 @@ impl Runs {
     pub fn of(&self, o: usize) -> &[u32] {
         let start = o * self.cap;
         &self.slots[start..start + self.count[o] as usize]
+    }
+
+    /// Owner `o`'s run read in whole groups of four (the slots past its end belong to it,
+    /// to the next owner or to the padding: each holds a value once written, or zero), and
+    /// its length.
+    #[inline(always)]
+    pub fn in_fours(&self, o: usize) -> (&[u32], usize) {
+        let start = o * self.cap;
+        let len = self.count[o] as usize;
+        (&self.slots[start..start + len.next_multiple_of(4)], len)
     }
 
     /// Owner `o`'s slots, used or not (where its run will be read).
@@ -110,7 +123,7 @@ impl Runs {
     #[cold]
     fn grow(&mut self) {
         let cap = self.cap + 1;
-        let mut slots = super::pages::filled(0u32, self.count.len() * cap);
+        let mut slots = super::pages::filled(0u32, self.count.len() * cap + PAD);
         for (o, &c) in self.count.iter().enumerate() {
             let c = c as usize;
             slots[o * cap..o * cap + c]
@@ -147,6 +160,31 @@ mod tests {
         assert_eq!(r.of(2), [1, 2, 3, 11, 5, 9, 7, 8]);
         r.clear(2);
         assert!(r.of(2).is_empty());
+    }
+
+    /// A run read in groups of four holds the run first, then slots that were written or are
+    /// zero, and the last owner's read stays inside the slots, also after growing and
+    /// renumbering.
+    #[test]
+    fn a_run_read_in_fours_is_the_run_then_written_or_zero_slots() {
+        let mut r = Runs::new(3, 3);
+        for v in 1..=3 {
+            r.push(2, v);
+        }
+        r.push(1, 7);
+        let (four, len) = r.in_fours(2);
+        assert_eq!((four, len), (&[1, 2, 3, 0][..], 3));
+        let (four, len) = r.in_fours(1);
+        assert_eq!((four, len), (&[7, 0, 0, 1][..], 1));
+        assert_eq!(r.in_fours(0), (&[][..], 0));
+        r.push(2, 4);
+        r.push(2, 5);
+        assert_eq!(r.in_fours(2), (&[1, 2, 3, 4, 5, 0, 0, 0][..], 5));
+        r.remove_value(2, 5);
+        assert_eq!(r.in_fours(2), (&[1, 2, 3, 4][..], 4));
+        r.permute(&[2, 1, 0], |v| v);
+        assert_eq!(r.in_fours(2), (&[][..], 0));
+        assert_eq!(r.in_fours(0).1, 4);
     }
 
     #[test]

@@ -238,6 +238,12 @@ impl NeighbourLists {
         self.entries.of(i as usize)
     }
 
+    /// Sphere `i`'s entries read in groups of four (`Runs::in_fours`), and how many there are.
+    #[inline(always)]
+    pub fn in_fours(&self, i: u32) -> (&[u32], usize) {
+        self.entries.in_fours(i as usize)
+    }
+
     /// Sphere `i`'s list slots, used or not.
     #[inline(always)]
     pub fn room(&self, i: u32) -> &[u32] {

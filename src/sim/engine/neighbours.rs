@@ -16,7 +16,8 @@
 //! **Every lane names a sphere.** The passes read whole groups of four, past the entries they
 //! count, and load the sphere each lane names without a bounds check (`named`, from `relative`
 //! and the rebuild's load of a shell centre). This holds because every `u32` in the engine's cell
-//! records, lists, `gathered` and `near` is a sphere index below `n` (with a shift code), or
+//! records, list slots (a list is read in groups of four, past its end: `Runs::in_fours`),
+//! `fresh`, `gathered` and `near` is a sphere index below `n` (with a shift code), or
 //! zero (sphere 0, with `n ≥ 1` whenever a pass runs): they are written only from the
 //! indices `0..n` the cells are filled with (`Engine::new`, `reorder`, a checkpoint's
 //! `rebuild`), from each other, and from the zeros they start as; renumbering maps indices
@@ -228,7 +229,7 @@ impl<
     /// tests four at a time, and the same `near`.
     fn screen_all(&mut self, i: u32, fresh_only: bool, own: Own) -> Screened {
         let list = if fresh_only {
-            &self.fresh[..]
+            &self.fresh[..self.fresh_len]
         } else {
             self.lists.of(i)
         };
@@ -264,13 +265,13 @@ impl<
     /// is missed"), which are left out and noted (`Screened::beyond`).
     fn screen(&mut self, i: u32, fresh_only: bool, horizon: Quotient, own: Own) -> Screened {
         let (ri, vi) = own;
-        let list = if fresh_only {
-            &self.fresh[..]
+        let (list, len) = if fresh_only {
+            (&self.fresh[..], self.fresh_len)
         } else {
-            self.lists.of(i)
+            self.lists.in_fours(i)
         };
         let now = self.now;
-        let room = list.len().next_multiple_of(4);
+        let room = list.len();
         if self.near.len() < room {
             self.near.resize(room, 0);
         }
@@ -285,16 +286,10 @@ impl<
             near: 0,
             beyond: false,
         };
-        let (chunks, tail) = list.as_chunks::<4>();
-        // The tail's lanes past its end repeat its last entry and are not counted.
-        let last = tail.len().saturating_sub(1);
-        let tail_four: [u32; 4] = std::array::from_fn(|k| tail.get(k.min(last)).map_or(0, |&e| e));
-        let tail_valid = (1u32 << tail.len()) - 1;
-        for c in 0..chunks.len() + usize::from(!tail.is_empty()) {
-            let (four, valid) = match chunks.get(c) {
-                Some(&four) => (four, 0b1111),
-                None => (tail_four, tail_valid),
-            };
+        // The list is read in whole groups of four: the lanes past its end (slots after it, or
+        // `fresh`'s zeros) name spheres and are not counted. No tail is copied.
+        for (c, &four) in list.as_chunks::<4>().0.iter().enumerate() {
+            let valid = (1u32 << (len - 4 * c).min(4)) - 1;
             let a = [
                 motion(four[0]),
                 motion(four[1]),
@@ -398,6 +393,9 @@ impl<
                 self.fresh.push(e);
             }
         }
+        self.fresh_len = self.fresh.len();
+        self.fresh.extend_from_slice(&[0; 3]);
+        self.fresh.truncate(self.fresh_len.next_multiple_of(4));
         for &e in &old {
             if !self.lists.was_kept(e) {
                 let (j, code) = split(e);
