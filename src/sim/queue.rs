@@ -122,8 +122,9 @@ impl Calendar {
 
     #[inline]
     fn bucket_of(&self, t: f64) -> u64 {
-        // Saturating float-to-int cast: huge times land in the overflow list.
-        (t * self.inv_width) as u64
+        // Saturating float-to-int cast: huge times land in the overflow list. Through `i64`
+        // (times are not negative): one conversion where `u64` takes two and a fix-up.
+        (t * self.inv_width) as i64 as u64
     }
 
     /// Bytes the calendar holds (bucket heads, slots, versions, heap, overflow).
@@ -417,12 +418,13 @@ mod tests {
     }
 
     /// Events leave in exact (time, sphere) order whatever the width, including times far
-    /// beyond one year and equal times; a sphere scheduled again leaves once, at its last
-    /// time, wherever its earlier event was (a bucket, the heap, the overflow list).
+    /// beyond one year, bucket numbers past `i64::MAX` (the saturating cast: width 1e-290)
+    /// and equal times; a sphere scheduled again leaves once, at its last time, wherever its
+    /// earlier event was (a bucket, the heap, the overflow list).
     #[test]
     fn pops_in_order_for_any_width() {
         const N: usize = 500;
-        for &width in &[1e-3, 0.1, 1.0, 50.0] {
+        for &width in &[1e-290, 1e-3, 0.1, 1.0, 50.0] {
             let mut rng = Rng::new(7);
             let mut q = Calendar::new(width, 16, N, 0.0);
             let mut now = 0.0;
