@@ -336,13 +336,7 @@ impl Responder for Elastic {
         let (dvi, dvj, _, virial) = exchange(mi, mj, u, 1.0, n, dist);
         m.set_velocity_in_place(i, bi.v + dvi);
         m.set_velocity_in_place(j, bj.v + dvj);
-        *out = Outcome {
-            virial,
-            approach: u,
-            restitution: 1.0,
-            guarded,
-            ..std::mem::take(out)
-        };
+        (out.virial, out.approach, out.restitution, out.guarded) = (virial, u, 1.0, guarded);
         out.changed.extend([i, j]);
     }
     #[inline]
@@ -357,14 +351,8 @@ impl Responder for Elastic {
             0.0
         };
         m.set_velocity_in_place(i, v);
-        *out = Outcome {
-            energy_lost,
-            approach: u,
-            restitution: 1.0,
-            guarded,
-            slid,
-            ..std::mem::take(out)
-        };
+        (out.energy_lost, out.approach, out.restitution) = (energy_lost, u, 1.0);
+        (out.guarded, out.slid) = (guarded, slid);
         out.changed.push(i);
     }
 }
