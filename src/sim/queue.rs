@@ -54,6 +54,14 @@ impl Entry {
     }
 }
 
+/// The bucket of time `t` (`inv_width` buckets a unit of time), saturating: a negative time
+/// (or NaN) is in bucket 0, a huge one in the last, with the overflow list. Through `i64`,
+/// after `max`, where a cast to `u64` takes two conversions and a fix-up.
+#[inline(always)]
+fn bucket(t: f64, inv_width: f64) -> u64 {
+    (t * inv_width).max(0.0) as i64 as u64
+}
+
 /// No sphere: the end of a bucket's list.
 const NIL: u32 = u32::MAX;
 /// `prev` of a slot that is first in its bucket.
@@ -104,7 +112,7 @@ impl Calendar {
             inv_width,
             heads: super::pages::filled(NIL, nb),
             mask: nb as u64 - 1,
-            current: (t0 * inv_width) as u64,
+            current: bucket(t0, inv_width),
             slots: super::pages::filled(empty, spheres),
             version: super::pages::filled(0, spheres),
             heap: BinaryHeap::new(),
@@ -122,9 +130,7 @@ impl Calendar {
 
     #[inline]
     fn bucket_of(&self, t: f64) -> u64 {
-        // Saturating float-to-int cast: huge times land in the overflow list. Through `i64`
-        // (times are not negative): one conversion where `u64` takes two and a fix-up.
-        (t * self.inv_width) as i64 as u64
+        bucket(t, self.inv_width)
     }
 
     /// Bytes the calendar holds (bucket heads, slots, versions, heap, overflow).
@@ -415,6 +421,19 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Times before the calendar's start (a restored state may hold them) leave first, in
+    /// order, before the later ones.
+    #[test]
+    fn times_before_the_start_leave_first() {
+        let mut q = Calendar::new(1.0, 8, 4, 0.0);
+        q.schedule(0, 2.5);
+        q.schedule(1, -1.0);
+        q.schedule(2, -0.25);
+        q.schedule(3, 0.5);
+        let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|(_, i)| i)).collect();
+        assert_eq!(order, [1, 2, 3, 0]);
     }
 
     /// Events leave in exact (time, sphere) order whatever the width, including times far

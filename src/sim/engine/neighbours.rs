@@ -278,7 +278,8 @@ impl<
         let near = &mut self.near;
         let g = vector_lanes(self.m.g);
         let (twice_num, den) = (f64x4::splat(2.0 * horizon.num), f64x4::splat(horizon.den));
-        // SAFETY: only list entries (the tail's lanes past its end repeat its last).
+        // SAFETY: every lane names a sphere: list entries, the slots after a list, `fresh`'s
+        // zeros (the module's doc).
         let motion = |e: u32| unsafe {
             relative::<GRAVITY>(&self.m.bodies, &self.shift, (ri, vi), now, g, e)
         };
