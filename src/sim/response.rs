@@ -77,9 +77,7 @@ impl Motion {
         } else {
             self.advance_falling(s, now);
         }
-        self.bodies[s as usize].v = v;
-        let c = &mut self.counter[s as usize];
-        *c = c.wrapping_add(1);
+        self.set_velocity_in_place(s, v);
     }
 }
 
