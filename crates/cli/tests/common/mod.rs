@@ -28,11 +28,37 @@ pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
-/// A scratch directory of this test process (kept as it is if it exists).
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("spheresweep-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch directory for one test: empty, under the system's temporary directory, named
+/// after the test, and removed with everything in it when the value is dropped (also when the
+/// test fails), so that test runs leave nothing behind. Reads as a `&Path`.
+pub struct Scratch(tempfile::TempDir);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for Scratch {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.path().as_os_str()
+    }
+}
+
+/// A new scratch directory named `spheresweep-cli-NAME-…`.
+pub fn scratch(name: &str) -> Scratch {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("spheresweep-cli-{name}-"))
+        .tempdir()
+        .expect("a scratch directory");
+    Scratch(dir)
 }
 
 /// A shipped scene file's path, `scenes/NAME.toml`.
@@ -40,13 +66,13 @@ pub fn shipped(name: &str) -> String {
     format!("{}/../../scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
 }
 
-/// An empty directory under the system's temporary directory, named after the test and this
-/// process (anything left there by an earlier run is removed).
-pub fn fresh_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("spheresweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A new scratch directory named `spheresweep-NAME-…` (see [`scratch`]).
+pub fn fresh_dir(name: &str) -> Scratch {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("spheresweep-{name}-"))
+        .tempdir()
+        .expect("a scratch directory");
+    Scratch(dir)
 }
 
 /// `spheresweep run` of scenes/hard_sphere_gas.toml to t = 40 with four snapshots into `out`,
