@@ -20,6 +20,10 @@ peer   SHORT_DIR and LONG_DIR each hold the peer's `md`, built by `scripts/edmd_
        each function's own instructions are differenced the same way.
 
 Needs valgrind and binutils' objdump. Prints one line a stage: instructions a collision.
+The split of ours is as good as the compiler's line tables, which put some instructions of an
+inlined function under its caller's line (the shell exit's arithmetic under the index that
+loads the shell's centre, for one): a stage's figure is good to a few tens of instructions;
+the total is exact.
 """
 import collections
 import os
@@ -28,29 +32,51 @@ import subprocess
 import sys
 import tempfile
 
-# A stage for each function inlined at an instruction (the first rule that matches wins).
+# A stage for each instruction, from the functions of our sources it is inlined through
+# (`names`, innermost first) and the symbol it sits in (`sym`): the first rule that matches.
 STAGES = [
-    ("calendar", lambda names, paths, sym: any("sim/queue.rs" in p for p in paths)),
-    ("shell exit and horizon", lambda names, paths, sym: any(
-        n.startswith(("shell_exit", "predict_shell", "horizon", "reaching")) for n in names)),
-    ("rebuild: cell scan", lambda names, paths, sym: any(
-        n.startswith(("within_reach", "cells_near", "around", "coords_of", "fetch_gathered"))
+    ("calendar", lambda names, files, sym: "queue.rs" in files),
+    ("shell exit and horizon", lambda names, files, sym: any(
+        n in ("shell_exit_quotient", "shell_exit_falling", "predict_shell", "horizon",
+              "reaching", "value") for n in names)),
+    ("rebuild: cell scan", lambda names, files, sym: any(
+        n in ("within_reach", "cells_near", "around", "coords_of", "fetch_gathered_shells")
         for n in names) or any(s in sym for s in ("within_reach", "coords_of", "cells_near"))),
-    ("prediction: first pass (screen)", lambda names, paths, sym: "screen" in sym or any(
-        n.startswith("screen") for n in names)),
-    ("prediction: second pass (answer, keep)", lambda names, paths, sym: any(
-        n.startswith(("answer", "arrivals", "add<", "result", "merge")) or n == "add"
-        for n in names)),
-    ("rebuild: list upkeep", lambda names, paths, sym: "predict" not in sym and any(
-        n.startswith(("rebuild_list", "leave_shell", "mark_old")) for n in names)),
-    ("prediction: the rest (advance, result, loop over the changed)", lambda names, paths, sym:
-        "predict" in sym or "renew_changed" in sym),
-    ("collision and response", lambda names, paths, sym: any(
-        n.startswith(("collide_pair", "collide_wall", "pair", "exchange", "normal_impulse",
-                      "set_velocity", "account", "clear")) for n in names)),
-    ("event loop (pop, stale events, fetching ahead)", lambda names, paths, sym:
+    ("prediction: first pass (screen)", lambda names, files, sym: "screen" in sym or any(
+        n in ("screen", "screen_all") for n in names)),
+    ("prediction: second pass (answer, keep)", lambda names, files, sym: any(
+        n in ("answer", "arrivals", "add", "result", "merge") for n in names)),
+    ("rebuild: list upkeep", lambda names, files, sym: "predict" not in sym and any(
+        n in ("rebuild_list", "leave_shell") for n in names)),
+    ("prediction: the rest (advance, result, loop over the changed)", lambda names, files, sym:
+        "predict" in sym or "renew_changed" in sym or "predict" in names),
+    ("collision and response", lambda names, files, sym: any(
+        n in ("collide_pair", "collide_wall", "pair", "wall", "exchange", "normal_impulse",
+              "set_velocity_in_place", "account", "clear") for n in names)),
+    ("event loop (pop, stale events, fetching ahead)", lambda names, files, sym:
         "run_until" in sym or "prune" in sym),
 ]
+
+FN = re.compile(r"^\s*(?:pub(?:\([\w:]+\))?\s+)?(?:const\s+)?(?:unsafe\s+)?fn\s+(\w+)")
+_fns = {}
+
+
+def enclosing_fn(path, line):
+    """The function of our sources whose body holds `path`:`line` (the last `fn` above it)."""
+    if path not in _fns:
+        starts = []
+        if os.path.isfile(path):
+            for k, text in enumerate(open(path, encoding="utf-8"), start=1):
+                if m := FN.match(text):
+                    starts.append((k, m.group(1)))
+        _fns[path] = starts
+    name = None
+    for k, n in _fns[path]:
+        if k > line:
+            break
+        name = n
+    return name
+
 
 # The peer's functions, by stage.
 PEER = {
@@ -122,27 +148,41 @@ def ours(binary, n, phi):
             text = callgrind([binary, n, phi, t], out, instr=True)
             runs[t] = (own_costs(out, os.path.basename(binary)), collisions(text))
     (short, c2), (long, c6) = runs["2"], runs["6"]
+    return stages_of(binary, short, long), c6 - c2
+
+
+def stages_of(binary, short, long):
+    """Each stage's instructions in the longer run less the shorter (`short`, `long`: each
+    instruction's own count by address)."""
     dis = subprocess.run(["objdump", "-d", "-l", "--inlines", "--no-show-raw-insn", binary],
                          capture_output=True, text=True, check=True).stdout
     stage = collections.Counter()
-    sym, inner, names, paths = "", "", [], []
+    # objdump prints an instruction's source line when it changes, and the chain of callers
+    # it is inlined through before every instruction: a chain after an instruction starts
+    # again from the last source line.
+    sym, source, frames, fresh = "", None, [], True
     for line in dis.splitlines():
         if m := re.match(r"^[0-9a-f]+ <(.*)>:$", line):
             sym = m.group(1)
-        elif m := re.match(r"^(\S+)\(\):$", line):
-            inner = m.group(1)
-        elif m := re.match(r"^(/\S+):\d+", line):
-            names, paths, inner = [inner], [m.group(1)], ""
-        elif m := re.match(r"^\s*inlined by (/\S+):\d+ \((.*)\)", line):
-            paths.append(m.group(1))
-            names.append(m.group(2))
+        elif m := re.match(r"^(/\S+):(\d+)", line):
+            source = (m.group(1), int(m.group(2)))
+            frames, fresh = [source], False
+        elif m := re.match(r"^\s*inlined by (/\S+):(\d+)", line):
+            if fresh:
+                frames, fresh = [source] if source else [], False
+            frames.append((m.group(1), int(m.group(2))))
         elif m := re.match(r"^\s+([0-9a-f]+):\s", line):
+            fresh = True
             a = int(m.group(1), 16)
             d = long.get(a, 0) - short.get(a, 0)
             if d:
-                name = next((s for s, rule in STAGES if rule(names, paths, sym)), "other")
+                ours = [(p, k) for p, k in frames if p and os.path.isfile(p) and "/src/" in p
+                        and "/rustc/" not in p and "/.cargo/" not in p]
+                names = [enclosing_fn(p, k) for p, k in ours]
+                files = " ".join(os.path.basename(p) for p, _ in ours)
+                name = next((s for s, rule in STAGES if rule(names, files, sym)), "other")
                 stage[name] += d
-    return stage, c6 - c2
+    return stage
 
 
 def peer(short_dir, long_dir):
