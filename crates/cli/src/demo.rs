@@ -240,7 +240,7 @@ fn simulate(args: &Args) -> Result<(), Box<dyn Error>> {
     writeln!(
         out,
         "picture      {} ({} × {} px): side view (slice |y| < {SLICE}) and top view (floor layer), \
-         paths of {} glue beads and of {} glass beads (the last tenth of the run)",
+         paths of {} glue beads (from the start) and of {} glass beads (the last tenth of the run)",
         wrote.join(", "),
         args.size.width,
         args.size.height,
