@@ -66,13 +66,10 @@ pub fn shipped(name: &str) -> String {
     format!("{}/../../scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
 }
 
-/// A new scratch directory named `spheresweep-NAME-…` (see [`scratch`]).
+/// A new scratch directory: the same as [`scratch`] (the name the tests of the run's outputs
+/// use).
 pub fn fresh_dir(name: &str) -> Scratch {
-    let dir = tempfile::Builder::new()
-        .prefix(&format!("spheresweep-{name}-"))
-        .tempdir()
-        .expect("a scratch directory");
-    Scratch(dir)
+    scratch(name)
 }
 
 /// `spheresweep run` of scenes/hard_sphere_gas.toml to t = 40 with four snapshots into `out`,
