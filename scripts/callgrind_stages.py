@@ -14,9 +14,10 @@ ours   SIM_RATE is a `sim_rate` binary (`cargo build --release -p spheresweep-be
        cancels. Each instruction goes to a stage by the functions inlined at it (`objdump
        --inlines`): the calendar, the shell exit and horizon, the two passes of a
        prediction, a rebuild's cell scan and list upkeep, the collision, the event loop.
-peer   SHORT_DIR and LONG_DIR each hold the peer's `md`, built by `scripts/edmd_peer.sh EDMD
-       N PHI MAXTIME DIR` for two simulated times (e.g. 10^5 and 3*10^5 collisions); each is run
-       there under callgrind, its collision count read from its last "Collisions:" line, and
+peer   SHORT_DIR and LONG_DIR each hold the peer's `md`, built by `EDMD_CFLAGS="-Ofast
+       -march=x86-64-v3" scripts/edmd_peer.sh EDMD N PHI MAXTIME DIR` for two simulated times
+       (e.g. 10^5 and 3*10^5 collisions; the target ours is built for: valgrind cannot run
+       every instruction `-march=native` may use); each is run there under callgrind, its collision count read from its last "Collisions:" line, and
        each function's own instructions are differenced the same way.
 
 Needs valgrind and binutils' objdump. Prints one line a stage: instructions a collision.
@@ -96,7 +97,12 @@ PEER = {
 def callgrind(cmd, out, cwd=None, instr=False):
     flags = ["--dump-instr=yes"] if instr else []
     r = subprocess.run(["valgrind", "--tool=callgrind", *flags, f"--callgrind-out-file={out}",
-                        *cmd], cwd=cwd, capture_output=True, text=True, check=True)
+                        *cmd], cwd=cwd, capture_output=True, text=True)
+    if r.returncode != 0:
+        hint = (" (an instruction valgrind cannot run: build for x86-64-v3, not -march=native)"
+                if r.returncode == -4 else "")
+        sys.exit(f"callgrind_stages.py: {' '.join(cmd)} under valgrind failed with status "
+                 f"{r.returncode}{hint}\n{r.stderr[-2000:]}")
     return r.stdout
 
 
@@ -141,6 +147,9 @@ def collisions(text):
 
 
 def ours(binary, n, phi):
+    if not os.access(binary, os.X_OK):
+        sys.exit(f"callgrind_stages.py: no binary {binary} (cargo build --release -p "
+                 "spheresweep-bench --example sim_rate)")
     with tempfile.TemporaryDirectory() as tmp:
         runs = {}
         for t in ("2", "6"):
@@ -186,6 +195,10 @@ def stages_of(binary, short, long):
 
 
 def peer(short_dir, long_dir):
+    for d in (short_dir, long_dir):
+        if not os.access(os.path.join(d, "md"), os.X_OK):
+            sys.exit(f"callgrind_stages.py: no peer binary {os.path.join(d, 'md')} "
+                     "(build it with scripts/edmd_peer.sh and a BUILD_DIR)")
     counts = []
     for d in (short_dir, long_dir):
         out = os.path.join(d, "callgrind.stages")
