@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::{bin, fresh_dir};
+use common::{bin, scratch};
 
 /// `spheresweep accuracy --cases 10 ARGS` run in `dir`, with `path` as PATH if given.
 fn accuracy(dir: &Path, args: &[&str], path: Option<&Path>) -> Output {
@@ -50,7 +50,7 @@ fn read(path: impl AsRef<Path>) -> String {
 
 #[test]
 fn by_default_the_report_goes_to_its_own_directory_never_docs() {
-    let dir = fresh_dir("accuracy-default");
+    let dir = scratch("accuracy-default");
     checkout(&dir);
     let out = accuracy(&dir, &[], None);
     assert!(
@@ -67,7 +67,7 @@ fn by_default_the_report_goes_to_its_own_directory_never_docs() {
 
 #[test]
 fn a_tracked_file_is_replaced_only_with_force() {
-    let dir = fresh_dir("accuracy-tracked");
+    let dir = scratch("accuracy-tracked");
     checkout(&dir);
     let out = accuracy(&dir, &["--out", "docs/accuracy.md"], None);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -116,7 +116,7 @@ fn a_tracked_file_is_replaced_only_with_force() {
 
 #[test]
 fn without_git_an_existing_file_in_a_checkout_needs_force() {
-    let dir = fresh_dir("accuracy-no-git");
+    let dir = scratch("accuracy-no-git");
     checkout(&dir);
     let empty = dir.join("no-programs");
     std::fs::create_dir(&empty).unwrap();

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::Duration;
 
-use common::{bin, fresh_dir, spawn_gas_run};
+use common::{bin, scratch, spawn_gas_run};
 use run_support::{physics, read};
 
 fn signal(child: &Child, name: &str) {
@@ -68,7 +68,7 @@ fn temporary_files(dir: &Path) -> Vec<String> {
 
 #[test]
 fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
-    let dir = fresh_dir("sigterm");
+    let dir = scratch("sigterm");
     let (full, cut) = (dir.join("full"), dir.join("cut"));
     let out = spawn_gas_run(&full, &[]).wait_with_output().unwrap();
     assert!(
@@ -137,7 +137,7 @@ fn sigterm_stops_run_with_a_checkpoint_that_resumes_to_the_same_bytes() {
 
 #[test]
 fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
-    let dir = fresh_dir("sigint");
+    let dir = scratch("sigint");
     std::fs::write(dir.join("summary.json"), b"an earlier run").unwrap();
     // The run has started simulating once its partial trajectory exists.
     let mut child = spawn_gas_run(&dir, &["--force"]);
@@ -168,7 +168,7 @@ fn sigint_stops_run_without_checkpoints_and_keeps_earlier_files() {
 
 #[test]
 fn sigterm_stops_demo_without_writing_a_picture() {
-    let dir = fresh_dir("demo-term");
+    let dir = scratch("demo-term");
     let mut child = bin()
         .args(["demo", "--quiet", "--out"])
         .arg(&dir)
@@ -198,7 +198,7 @@ fn sigterm_stops_demo_without_writing_a_picture() {
 /// inside one) is still stopped, at the next stop.
 #[test]
 fn sigterm_stops_a_run_of_short_steps() {
-    let dir = fresh_dir("short-steps");
+    let dir = scratch("short-steps");
     let scene = dir.join("small.toml");
     std::fs::write(
         &scene,
@@ -232,7 +232,7 @@ fn sigterm_stops_a_run_of_short_steps() {
 /// `query` stops between two chunks: its staged output is removed and an earlier output kept.
 #[test]
 fn sigterm_stops_query_between_chunks() {
-    let dir = fresh_dir("query-term");
+    let dir = scratch("query-term");
     let input = dir.join("pairs.csv");
     let mut text = String::from("ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n");
     for i in 0..200_000 {
@@ -270,7 +270,7 @@ fn sigterm_stops_query_between_chunks() {
 /// file is left, and it says how many it wrote.
 #[test]
 fn sigterm_stops_render_of_a_sequence() {
-    let dir = fresh_dir("render-term");
+    let dir = scratch("render-term");
     let scene = dir.join("small.toml");
     std::fs::write(
         &scene,
@@ -316,7 +316,7 @@ fn sigterm_stops_render_of_a_sequence() {
 /// nothing was written, and the earlier report and picture are untouched.
 #[test]
 fn sigterm_stops_accuracy_before_anything_is_written() {
-    let dir = fresh_dir("accuracy-term");
+    let dir = scratch("accuracy-term");
     let (report, svg) = (dir.join("accuracy.md"), dir.join("accuracy.svg"));
     std::fs::write(&report, "earlier report").unwrap();
     std::fs::write(&svg, "earlier picture").unwrap();
@@ -369,7 +369,7 @@ fn sigint_stops_bench() {
 /// (which cannot poll): it ends at once with 130, having written nothing.
 #[test]
 fn sigterm_while_a_large_scene_is_built_ends_at_once() {
-    let dir = fresh_dir("build-term");
+    let dir = scratch("build-term");
     let scene = dir.join("big.toml");
     std::fs::write(
         &scene,

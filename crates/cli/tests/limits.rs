@@ -8,7 +8,7 @@
 mod common;
 mod run_support;
 
-use common::{bin, fresh_dir, repo};
+use common::{bin, repo, scratch};
 
 use glam::DVec3;
 use spheresweep::Container;
@@ -18,7 +18,7 @@ use spheresweep::sim::{
 
 #[test]
 fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
-    let dir = fresh_dir("memory-scene");
+    let dir = scratch("memory-scene");
     // 4000 spheres need about 1.4 MiB; say 1 MiB is available.
     let out = bin()
         .args(["run", "--quiet", "--out"])
@@ -80,7 +80,7 @@ fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
 
 #[test]
 fn a_query_chunk_too_large_for_memory_is_refused() {
-    let dir = fresh_dir("memory-query");
+    let dir = scratch("memory-query");
     let input = dir.join("pairs.csv");
     std::fs::write(
         &input,
@@ -257,7 +257,7 @@ fn a_dense_inelastic_pile_collapses_with_a_clear_error_or_runs_with_tc() {
 /// a count too large for memory is refused before any is generated.
 #[test]
 fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
-    let dir = fresh_dir("memory-render");
+    let dir = scratch("memory-render");
     let huge = dir.join("huge.toml");
     std::fs::write(
         &huge,
@@ -301,7 +301,7 @@ fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
 /// with the projected bytes, nothing written.
 #[test]
 fn outputs_projected_beyond_the_limit_are_refused_before_the_run() {
-    let dir = fresh_dir("max-output");
+    let dir = scratch("max-output");
     let scene = run_support::gas(&dir, "gas", 200, 1, "t_end = 10.0", false);
     let out = dir.join("out");
     // 1001 frames of 200 spheres: about 24 MiB.
@@ -350,7 +350,7 @@ fn outputs_projected_beyond_the_limit_are_refused_before_the_run() {
 /// stops with an error, and removes its partial files and its checkpoint.
 #[test]
 fn a_run_whose_outputs_pass_the_limit_stops_and_removes_its_files() {
-    let dir = fresh_dir("max-output-events");
+    let dir = scratch("max-output-events");
     let scene = run_support::gas(&dir, "gas", 200, 1, "t_end = 50.0", true);
     let out = dir.join("out");
     let o = run_support::output(
@@ -377,7 +377,7 @@ fn a_run_whose_outputs_pass_the_limit_stops_and_removes_its_files() {
 /// 301-digit number.
 #[test]
 fn huge_numbers_in_messages_are_in_exponent_form() {
-    let dir = fresh_dir("huge-numbers");
+    let dir = scratch("huge-numbers");
     let scene = run_support::gas(
         &dir,
         "gas",

@@ -7,7 +7,7 @@ mod common;
 
 use std::process::Output;
 
-use common::fresh_dir;
+use common::scratch;
 
 /// The address-space limit every test runs the binary under: 1 GiB, in KiB for `ulimit -v`.
 const LIMIT_KIB: u64 = 1 << 20;
@@ -57,7 +57,7 @@ fn refused_under_ulimit(out: &Output, what: &str) -> String {
 
 #[test]
 fn run_of_a_scene_too_large_for_ulimit_v_is_refused_with_exit_code_1() {
-    let dir = fresh_dir("ulimit-run");
+    let dir = scratch("ulimit-run");
     let scene = big_scene(&dir);
     let out_dir = dir.join("out");
     let out = limited(
@@ -82,7 +82,7 @@ fn run_of_a_scene_too_large_for_ulimit_v_is_refused_with_exit_code_1() {
 
 #[test]
 fn render_and_query_check_against_ulimit_v_too() {
-    let dir = fresh_dir("ulimit-render");
+    let dir = scratch("ulimit-render");
     let scene = big_scene(&dir);
     let out = limited(
         &[

@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{bin, fresh_dir};
+use common::{bin, scratch};
 
 fn spheresweep(args: &[&str]) -> Output {
     bin().args(args).output().expect("the binary runs")
@@ -53,7 +53,7 @@ fn npy_pairs(path: &Path, rows: &[[f64; 14]], fortran: bool) {
 
 #[test]
 fn an_f8_value_beyond_f32_is_refused_as_csv_refuses_it() {
-    let dir = fresh_dir("npy-beyond");
+    let dir = scratch("npy-beyond");
     let mut bad = PAIR;
     bad[3] = 1e39; // avx of row 1
     let (c, f) = (dir.join("c.npy"), dir.join("f.npy"));
@@ -119,7 +119,7 @@ const NOZZLE: &str = "[[generate]]\nkind = \"nozzle\"\norigin = [0, 0, 20]\n\
 
 #[test]
 fn a_generators_error_names_it_its_line_and_the_one_field_that_failed() {
-    let dir = fresh_dir("generator-errors");
+    let dir = scratch("generator-errors");
     // Lines: 1 [run], 2 t_end, 4-9 and 11-16 the lattices, 18 the nozzle, 19 kind,
     // 20 origin, 21 direction, 22 n, 23 radius, 24 speed, 25 the field added.
     for (extra, line, want) in [
@@ -179,7 +179,7 @@ fn a_generators_error_names_it_its_line_and_the_one_field_that_failed() {
 
 #[test]
 fn a_periodic_gas_too_small_for_its_box_blames_the_gas_and_says_why() {
-    let dir = fresh_dir("gas-errors");
+    let dir = scratch("gas-errors");
     let gas = |n: u32, phi: f64| {
         let path = dir.join(format!("gas{n}.toml"));
         std::fs::write(
@@ -217,7 +217,7 @@ fn a_periodic_gas_too_small_for_its_box_blames_the_gas_and_says_why() {
 
 #[test]
 fn numbers_far_from_one_are_printed_in_exponent_form() {
-    let dir = fresh_dir("huge-numbers");
+    let dir = scratch("huge-numbers");
     let scene = scene_with(&dir, "t.toml", "t_end = -1e300", "");
     let err = refused(&["run", "--quiet", &scene]);
     assert!(
@@ -230,7 +230,7 @@ fn numbers_far_from_one_are_printed_in_exponent_form() {
 
 #[test]
 fn a_csv_with_cr_line_endings_is_refused_saying_so() {
-    let dir = fresh_dir("cr-csv");
+    let dir = scratch("cr-csv");
     let input = dir.join("mac.csv");
     std::fs::write(
         &input,

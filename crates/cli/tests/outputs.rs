@@ -9,7 +9,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::{bin, fresh_dir, repo};
+use common::{bin, repo, scratch};
 
 const PAIRS: &str = "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n\
                      0,0,0,1,0,0,1,5,0,0,0,0,0,1\n";
@@ -60,7 +60,7 @@ fn refused_as_input(args: &[&str], output: &str, input: &str, kept: &Path) {
 
 #[test]
 fn query_refuses_an_output_that_is_its_input_through_a_link() {
-    let dir = fresh_dir("out-is-in");
+    let dir = scratch("out-is-in");
     let input = dir.join("in.csv");
     std::fs::write(&input, PAIRS).unwrap();
     let (link, hard) = (dir.join("link.csv"), dir.join("hard.csv"));
@@ -111,7 +111,7 @@ fn query_refuses_an_output_that_is_its_input_through_a_link() {
 
 #[test]
 fn query_refuses_an_npy_output_that_is_its_input() {
-    let dir = fresh_dir("npy-out-is-in");
+    let dir = scratch("npy-out-is-in");
     let row = [0., 0., 0., 1., 0., 0., 1., 5., 0., 0., 0., 0., 0., 1.];
     let input = dir.join("pairs.npy");
     npy_pairs(&input, &[row]);
@@ -145,7 +145,7 @@ fn query_refuses_an_npy_output_that_is_its_input() {
 
 #[test]
 fn render_and_accuracy_refuse_one_file_for_two_roles() {
-    let dir = fresh_dir("render-out-is-in");
+    let dir = scratch("render-out-is-in");
     let scene = dir.join("gas.toml");
     std::fs::copy(repo("scenes/hard_sphere_gas.toml"), &scene).unwrap();
     let pictures = dir.join("pictures");
@@ -218,7 +218,7 @@ fn plant(dir: &Path, name: &str, directory: bool) -> PathBuf {
 
 #[test]
 fn a_killed_querys_temporaries_are_removed_by_the_next_query_into_that_output() {
-    let dir = fresh_dir("stale-tmp");
+    let dir = scratch("stale-tmp");
     let input = dir.join("in.csv");
     std::fs::write(&input, PAIRS).unwrap();
     let (dead, live) = (ended_pid(), std::process::id());
@@ -248,7 +248,7 @@ fn a_killed_querys_temporaries_are_removed_by_the_next_query_into_that_output() 
 
 #[test]
 fn a_killed_renders_temporaries_are_removed_by_the_next_render() {
-    let dir = fresh_dir("stale-render");
+    let dir = scratch("stale-render");
     let dead = ended_pid();
     let stale = plant(&dir, &format!(".hard_sphere_gas.png.{dead}.tmp"), false);
     let kept = plant(&dir, &format!(".notes.png.{dead}.tmp"), false);

@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{bin, fresh_dir};
+use common::{bin, scratch};
 use glam::DVec3;
 use spheresweep::sim::SphereState;
 
@@ -33,7 +33,7 @@ const PROPERTIES: &str = "Properties=species:S:1:pos:R:3:radius:R:1 pbc=\"F F F\
 
 #[test]
 fn snapshots_with_a_nan_position_or_a_negative_radius_are_refused() {
-    let dir = fresh_dir("render-bad-xyz");
+    let dir = scratch("render-bad-xyz");
     for (name, bad, line, want) in [
         (
             "nan.xyz",
@@ -119,7 +119,7 @@ fn top_view(path: &Path, out: &Path) -> (Vec<String>, Vec<f64>, String) {
 
 #[test]
 fn a_far_flung_sphere_does_not_change_the_scale_and_is_counted() {
-    let dir = fresh_dir("render-outlier");
+    let dir = scratch("render-outlier");
     let cloud: Vec<SphereState> = (0..1000)
         .map(|k| {
             let (x, y, z) = (k % 10, k / 10 % 10, k / 100);
@@ -167,7 +167,7 @@ const BOXED: &str = "[run]\nt_end = 1\nsnapshot_every = 1\n\n\
 
 #[test]
 fn the_open_box_frames_the_scene_and_a_runs_pictures_have_its_shapes_and_names() {
-    let dir = fresh_dir("render-boxed");
+    let dir = scratch("render-boxed");
     let scene = dir.join("boxed.toml");
     std::fs::write(&scene, BOXED).unwrap();
     for picture in [scene.clone(), dir.join("run/trajectory.xyz")] {
@@ -215,7 +215,7 @@ fn the_open_box_frames_the_scene_and_a_runs_pictures_have_its_shapes_and_names()
 
 #[test]
 fn the_periodic_box_is_outlined_over_the_spheres() {
-    let dir = fresh_dir("render-periodic");
+    let dir = scratch("render-periodic");
     let scene = dir.join("gas.toml");
     std::fs::write(
         &scene,

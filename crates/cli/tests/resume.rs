@@ -29,7 +29,7 @@ const CHECKPOINTS: [&str; 2] = ["--checkpoint-every", "2"];
 
 #[test]
 fn a_killed_run_resumes_to_the_same_bytes() {
-    let dir = fresh_dir("resume");
+    let dir = scratch("resume");
     let scene = scene(&dir);
     let (full, killed) = (dir.join("full"), dir.join("killed"));
     success(&scene, &full, &CHECKPOINTS);
@@ -103,7 +103,7 @@ fn a_killed_run_resumes_to_the_same_bytes() {
 /// that is not the one the checkpoint records; it writes nothing then.
 #[test]
 fn a_damaged_or_foreign_checkpoint_is_refused() {
-    let dir = fresh_dir("resume-bad");
+    let dir = scratch("resume-bad");
     let scene = scene(&dir);
     let out = dir.join("out");
     let checkpoint = interrupted(&scene, &out, &CHECKPOINTS);

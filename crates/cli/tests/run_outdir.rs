@@ -15,7 +15,7 @@ fn manifest(out: &std::path::Path) -> serde_json::Value {
 
 #[test]
 fn a_run_refuses_another_runs_directory_unless_forced_and_never_mixes_them() {
-    let dir = fresh_dir("outdir");
+    let dir = scratch("outdir");
     let a = gas(&dir, "a", 200, 1, "t_end = 2.0\nsnapshot_every = 1.0", true);
     let b = gas(
         &dir,
@@ -91,7 +91,7 @@ fn a_run_refuses_another_runs_directory_unless_forced_and_never_mixes_them() {
 
 #[test]
 fn a_directory_with_a_checkpoint_is_resumed_or_forced() {
-    let dir = fresh_dir("outdir-checkpoint");
+    let dir = scratch("outdir-checkpoint");
     let a = gas(
         &dir,
         "a",
@@ -133,7 +133,7 @@ fn a_directory_with_a_checkpoint_is_resumed_or_forced() {
 /// even with --force, and runs once the first has ended.
 #[test]
 fn a_second_run_into_a_directory_in_use_is_refused() {
-    let dir = fresh_dir("outdir-busy");
+    let dir = scratch("outdir-busy");
     let a = gas(
         &dir,
         "a",
@@ -181,7 +181,7 @@ fn a_second_run_into_a_directory_in_use_is_refused() {
 /// work: the run would overwrite its own input.
 #[test]
 fn a_scene_that_is_one_of_the_outputs_is_refused() {
-    let dir = fresh_dir("outdir-scene");
+    let dir = scratch("outdir-scene");
     let scene = gas(&dir, "gas", 50, 1, "t_end = 1.0", false);
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();

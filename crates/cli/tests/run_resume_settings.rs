@@ -11,7 +11,7 @@ const RUN: &str = "t_end = 100.0\nsnapshot_every = 2.0";
 
 #[test]
 fn a_resume_with_other_settings_is_refused_naming_them() {
-    let dir = fresh_dir("resume-settings");
+    let dir = scratch("resume-settings");
     let scene = gas(&dir, "gas", 500, 1, RUN, false);
     let out = dir.join("out");
     let checkpoint = interrupted(&scene, &out, &["--checkpoint-every", "2"]);

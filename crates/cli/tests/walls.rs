@@ -8,7 +8,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{bin, fresh_dir};
+use common::{bin, scratch};
 
 /// One frame: its time, and each sphere's centre and radius.
 type Frame = (f64, Vec<([f64; 3], f64)>);
@@ -84,7 +84,7 @@ fn deepest(out: &Path) -> (f64, usize) {
 
 #[test]
 fn the_reported_scenes_stay_in_their_vessel() {
-    let dir = fresh_dir("walls");
+    let dir = scratch("walls");
     let random = "[[generate]]\nkind = \"random\"\nn = 60\nradius = 0.3\nspeed = 1.0\ninside = 0\n";
     for (name, e, tc, t_end, spheres) in [
         ("one-0.3.toml", 0.3, 0.0, 200.0, ONE),
@@ -120,7 +120,7 @@ fn the_reported_scenes_stay_in_their_vessel() {
 /// time; nothing is left in the output directory.
 #[test]
 fn a_broken_wall_rule_stops_the_run_with_an_error() {
-    let dir = fresh_dir("walls-broken");
+    let dir = scratch("walls-broken");
     let path = scene(&dir, "one.toml", 0.3, 0.0, 200.0, ONE);
     let out = dir.join("out");
     let run = bin()

@@ -66,12 +66,6 @@ pub fn shipped(name: &str) -> String {
     format!("{}/../../scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
 }
 
-/// A new scratch directory: the same as [`scratch`] (the name the tests of the run's outputs
-/// use).
-pub fn fresh_dir(name: &str) -> Scratch {
-    scratch(name)
-}
-
 /// `spheresweep run` of scenes/hard_sphere_gas.toml to t = 40 with four snapshots into `out`,
 /// plus `extra` arguments, started in the background with its standard error piped.
 pub fn spawn_gas_run(out: &Path, extra: &[&str]) -> Child {

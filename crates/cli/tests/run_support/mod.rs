@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
-pub use crate::common::{bin, fresh_dir};
+pub use crate::common::{bin, scratch};
 
 /// Byte ranges of the sections of a checkpoint of `len` bytes (the layout in
 /// crates/cli/src/run/checkpoint.rs).
