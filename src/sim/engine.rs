@@ -31,14 +31,16 @@ use crate::statics::Statics;
 mod ahead;
 #[cfg(test)]
 mod brute_check;
+mod list_rebuild;
 mod lists;
-mod neighbours;
+mod pair_prediction;
+mod passes;
 mod state;
 
 pub(crate) use super::predict::Candidate;
 pub(crate) use lists::MAX_SPHERES;
 use lists::{NeighbourLists, Quotient, shell_exit_falling, shell_exit_quotient};
-use neighbours::merge;
+use pair_prediction::merge;
 
 /// What a sphere's pending event is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -127,9 +129,9 @@ pub(crate) struct Engine<
     /// Each sphere's neighbour list and shell centre.
     lists: NeighbourLists,
     /// The periodic shift of each list entry's shift code, in lanes of four (the fourth zero).
-    shift: neighbours::ShiftLanes,
-    /// The cells around each cell, per axis (`neighbours.rs`).
-    stencil: neighbours::StencilTable,
+    shift: pair_prediction::ShiftLanes,
+    /// The cells around each cell, per axis (`list_rebuild.rs`).
+    stencil: list_rebuild::StencilTable,
     queue: Calendar,
     pub now: f64,
     pub walls: Statics<u16>,
@@ -246,8 +248,8 @@ impl<
         }));
         let mut e = Self {
             lists: NeighbourLists::new(delta, centres),
-            shift: neighbours::shift_lanes(lists::shifts(cells.len, PERIODIC)),
-            stencil: neighbours::StencilTable::new(&cells, PERIODIC),
+            shift: pair_prediction::shift_lanes(lists::shifts(cells.len, PERIODIC)),
+            stencil: list_rebuild::StencilTable::new(&cells, PERIODIC),
             once_per_list: !PERIODIC || cells.n.iter().all(|&k| k >= 3),
             fetch_neighbours: n >= ahead::FETCH_NEIGHBOURS_FROM,
             best: crate::sim::pages::filled(Best::default(), n),
