@@ -1,9 +1,10 @@
 //! Uniform-grid broad phase over the swept boxes of moving spheres.
 //!
 //! Sphere `i` moves as `c + v t` for `t` in `[0, t_max]`; its *swept box* is, per axis,
-//! `lo = min(c, c + v t_max) - r`, `hi = max(c, c + v t_max) + r` (see [`swept_box`], the
-//! exact definition). Two spheres are a *candidate pair* iff their swept boxes overlap as
-//! closed intervals on all three axes. [`Grid::build`] finds every candidate pair exactly once.
+//! `lo = min(c, c + v t_max) - r`, `hi = max(c, c + v t_max) + r` (`spheres::swept_box`,
+//! a test build's, is the exact definition). Two spheres are a *candidate pair* iff their
+//! swept boxes overlap as closed intervals on all three axes. [`Grid::build`] finds every
+//! candidate pair exactly once.
 //!
 //! # Algorithm
 //!
