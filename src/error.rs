@@ -24,6 +24,11 @@ pub enum Problem {
     NotPositive,
     /// A direction of length zero (a plane normal or a cylinder axis with `p1 == p2`).
     ZeroLength,
+    /// A magnitude the simulation cannot compute with: a radius or mass outside
+    /// `[2⁻¹⁰⁰, 2¹⁰⁰]`, or a coordinate or velocity component beyond `2¹⁰⁰`
+    /// (`spheresweep::sim::MAX_MAGNITUDE`; docs/derivations/simulation.md, "The range of
+    /// magnitudes").
+    OutOfRange,
 }
 
 impl fmt::Display for Problem {
@@ -33,6 +38,11 @@ impl fmt::Display for Problem {
             Problem::Negative => "is negative",
             Problem::NotPositive => "must be greater than zero",
             Problem::ZeroLength => "has zero length (degenerate direction)",
+            Problem::OutOfRange => {
+                "is outside the range the simulation computes in (radii and masses 2⁻¹⁰⁰ to \
+                 2¹⁰⁰, about 7.9e-31 to 1.3e30; coordinates and velocities at most 2¹⁰⁰): \
+                 choose units that bring the scene within it"
+            }
         })
     }
 }

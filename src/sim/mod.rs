@@ -47,7 +47,8 @@ mod walls;
 pub use demo::demo_world;
 pub use invariant::InvariantReport;
 pub use model::{
-    Boundary, Effects, MAX_MATERIALS, MaterialPair, Response, SimError, SphereState, World,
+    Boundary, Effects, MAX_MAGNITUDE, MAX_MATERIALS, MIN_MAGNITUDE, MaterialPair, Response,
+    SimError, SphereState, World,
 };
 pub use records::{EventGeometry, EventRecord};
 pub use stats::{KernelCounts, Stats};

@@ -218,6 +218,17 @@ pub enum SimError {
     /// An effect's parameter is out of range.
     #[error("effects: {0}")]
     Effects(String),
+    /// The boundary holds a coordinate or length beyond [`MAX_MAGNITUDE`], or the fastest
+    /// sphere moves slower than [`MIN_MAGNITUDE`] (but moves).
+    #[error(
+        "{what}: outside the range the simulation computes in (lengths and speeds up to 2¹⁰⁰, \
+         about 1.3e30; the fastest sphere at least 2⁻¹⁰⁰, about 7.9e-31, or at rest): choose \
+         units that bring the scene within it"
+    )]
+    Range {
+        /// `"periodic box"`, `"open box"` or `"the fastest sphere"`.
+        what: &'static str,
+    },
     /// A generator's parameter is out of range (`sim::generate`), or it could not place its
     /// spheres.
     #[error("{generator}: {problem}")]
@@ -328,6 +339,25 @@ fn finite3(v: DVec3) -> bool {
     v.is_finite()
 }
 
+/// The smallest radius and mass a simulation takes: `2⁻¹⁰⁰` (about 7.9·10⁻³¹).
+pub const MIN_MAGNITUDE: f64 = 1.0 / (1u128 << 100) as f64;
+/// The largest radius, mass, coordinate, box length or velocity component a simulation
+/// takes: `2¹⁰⁰` (about 1.3·10³⁰). Within `[2⁻¹⁰⁰, 2¹⁰⁰]` every product of four lengths or
+/// speeds the engine forms (`A C`, `A D²`, `‖r0 × v‖²`) is a normal `f64`, so a
+/// scene computes alike at any units within it: scaled by powers of two, its events are the
+/// same, at times scaled alike (docs/derivations/simulation.md, "The range of magnitudes").
+pub const MAX_MAGNITUDE: f64 = (1u128 << 100) as f64;
+
+/// Whether a positive magnitude is within `[MIN_MAGNITUDE, MAX_MAGNITUDE]`.
+fn in_range(x: f64) -> bool {
+    (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&x)
+}
+
+/// Whether every component is at most `MAX_MAGNITUDE` in magnitude.
+fn bounded3(v: DVec3) -> bool {
+    v.abs().max_element() <= MAX_MAGNITUDE
+}
+
 /// The most materials a world may have: the engine keeps a response for every ordered pair of
 /// materials (16 MiB at this count), so a larger table is refused rather than allocated.
 pub const MAX_MATERIALS: usize = 1024;
@@ -382,6 +412,16 @@ impl World {
             if s.mass <= 0.0 {
                 return bad("mass", Problem::NotPositive);
             }
+            for (field, ok) in [
+                ("centre", bounded3(s.centre)),
+                ("velocity", bounded3(s.velocity)),
+                ("radius", in_range(s.radius)),
+                ("mass", in_range(s.mass)),
+            ] {
+                if !ok {
+                    return bad(field, Problem::OutOfRange);
+                }
+            }
             material(format!("sphere {index}"), s.material)?;
         }
         for (body, _, &m) in self.statics.iter() {
@@ -424,6 +464,29 @@ impl World {
             return Err(SimError::Effects(format!(
                 "open box [{lo}, {hi}] must be finite with hi > lo on every axis"
             )));
+        }
+        self.validate_magnitudes()
+    }
+
+    /// The boundary's magnitudes within the engine's range (`MAX_MAGNITUDE`; the spheres' are
+    /// checked with their other fields).
+    fn validate_magnitudes(&self) -> Result<(), SimError> {
+        let (what, ok) = match self.boundary {
+            Boundary::Open => ("", true),
+            Boundary::OpenBox { lo, hi } => ("open box", bounded3(lo) && bounded3(hi)),
+            Boundary::Periodic { size } => ("periodic box", bounded3(size)),
+        };
+        if !ok {
+            return Err(SimError::Range { what });
+        }
+        // Slower spheres are fine (their speeds only round away against the others'), but a
+        // scene moving only that slowly would square its speeds to nothing.
+        let fastest = self.spheres.iter().map(|s| s.velocity.abs().max_element());
+        let fastest = fastest.fold(0.0, f64::max);
+        if fastest > 0.0 && fastest < MIN_MAGNITUDE {
+            return Err(SimError::Range {
+                what: "the fastest sphere",
+            });
         }
         Ok(())
     }

@@ -176,6 +176,9 @@ impl SceneFile {
                 self.sim_error(format!("{item} and {shape} {index}"), &path, err)
             }
             SimError::Box { .. } => self.sim_error("boundary", &[Key("boundary")], err),
+            SimError::Range { what } if what.ends_with("box") => {
+                self.sim_error("boundary", &[Key("boundary")], err)
+            }
             _ => self.sim_error("scene", &[], err),
         }
     }

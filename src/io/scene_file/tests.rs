@@ -265,6 +265,21 @@ fn fields_that_do_not_fit_their_item_are_named() {
             "sphere 0: mass = 0.0 must be finite and greater than 0",
         ),
         (
+            FULL.replace("mass = 2.0", "mass = 1e-40"),
+            "sphere 0: mass = 1e-40 is outside 2⁻¹⁰⁰ to 2¹⁰⁰",
+        ),
+        (
+            FULL.replace(
+                "velocity = [0.0, 0.0, -1.0]",
+                "velocity = [0.0, 0.0, -1e100]",
+            ),
+            "sphere 0: velocity = [0.0, 0.0, -1e100] is beyond 2¹⁰⁰",
+        ),
+        (
+            FULL.replace("radius = 0.5", "radius = 1e160"),
+            "sphere 0: radius = 1e160 is outside 2⁻¹⁰⁰ to 2¹⁰⁰",
+        ),
+        (
             FULL.replace("kind = \"box\"", "kind = \"periodic\""),
             "boundary: `lo` does not apply to kind = \"periodic\"",
         ),
