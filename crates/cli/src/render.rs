@@ -210,7 +210,21 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
         None => (0..frames.len()).collect(),
     };
     let (world, scene_path, note) = match &args.scene {
-        Some(path) => (Some(scene_world(path)?), Some(path.clone()), None),
+        Some(path) => {
+            let world = scene_world(path)?;
+            let (theirs, ours) = (world.spheres.len(), frames[0].spheres.len());
+            if theirs != ours {
+                // Shapes drawn over spheres of another run may be what the user wants (a
+                // scene's walls over data from elsewhere), so a warning, not a refusal.
+                eprintln!(
+                    "warning: --scene {} has {theirs} sphere{}, the snapshots {ours}: its shapes \
+                     and materials may not be those the snapshots were recorded with",
+                    path.display(),
+                    if theirs == 1 { "" } else { "s" },
+                );
+            }
+            (Some(world), Some(path.clone()), None)
+        }
         None => match scene_of_run(&args.input, frames[0].spheres.len()) {
             Some((path, world)) => {
                 let note = format!(

@@ -210,6 +210,31 @@ fn the_open_box_frames_the_scene_and_a_runs_pictures_have_its_shapes_and_names()
             .unwrap();
         assert!((r / sphere.unwrap() - 3.0).abs() < 0.01, "{r} {sphere:?}");
     }
+    // Another scene's shapes over these snapshots: drawn, with a warning naming both counts
+    // (and none for the scene they came from).
+    let other = dir.join("other.toml");
+    let lone = "[run]\nt_end = 1\n\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\n";
+    std::fs::write(&other, lone).unwrap();
+    let xyz = dir.join("run/trajectory.xyz");
+    for (k, (scene, warned)) in [(&other, true), (&scene, false)].into_iter().enumerate() {
+        let out = spheresweep(&[
+            "render",
+            s(&xyz),
+            "--frame",
+            "0",
+            "--scene",
+            s(scene),
+            "--out",
+            s(&dir.join(format!("pictures-{k}"))),
+        ]);
+        ok(&out);
+        let err = String::from_utf8_lossy(&out.stderr);
+        let want = format!(
+            "warning: --scene {} has 1 sphere, the snapshots 11: its shapes",
+            other.display()
+        );
+        assert_eq!(err.contains(&want), warned, "{scene:?}: {err}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 
