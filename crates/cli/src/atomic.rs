@@ -16,6 +16,36 @@ use std::path::{Path, PathBuf};
 
 use tempfile::{NamedTempFile, TempDir, TempPath};
 
+/// The directories this process made for its outputs, deepest first within each call
+/// ([`make_dirs`]); those still empty when a command fails are removed ([`remove_made_dirs`]).
+static MADE: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Makes `dir` and its missing parents, noting each one made.
+pub fn make_dirs(dir: &Path) -> std::io::Result<()> {
+    let mut missing = Vec::new();
+    let mut at = Some(dir);
+    while let Some(d) = at.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+        missing.push(d.to_path_buf());
+        at = d.parent();
+    }
+    std::fs::create_dir_all(dir)?;
+    MADE.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .extend(missing);
+    Ok(())
+}
+
+/// After a failed or interrupted command: removes the directories [`make_dirs`] made that
+/// are still empty (a failure before anything was written leaves no empty output directory;
+/// one that holds a checkpoint or a kept partial output stays).
+pub fn remove_made_dirs() {
+    let made = std::mem::take(&mut *MADE.lock().unwrap_or_else(|e| e.into_inner()));
+    // `remove_dir` removes only an empty directory; the deepest go first, then their parents.
+    for dir in made.iter().rev().chain(made.iter()) {
+        let _ = std::fs::remove_dir(dir);
+    }
+}
+
 /// The message of a failure to write `path`.
 fn fail(path: &Path) -> impl Fn(std::io::Error) -> String + '_ {
     move |e| format!("cannot write {}: {e}", path.display())
@@ -120,7 +150,7 @@ impl AtomicDir {
         if let Some(parent) = path.parent()
             && !parent.as_os_str().is_empty()
         {
-            std::fs::create_dir_all(parent).map_err(fail(path))?;
+            make_dirs(parent).map_err(fail(path))?;
         }
         remove_stale_temporaries(std::slice::from_ref(&path.to_path_buf()));
         let _ = std::fs::remove_dir_all(temporary(path));

@@ -72,6 +72,9 @@ fn main() -> ExitCode {
         Command::Query(args) => query::run(&args),
         Command::Render(args) => render::run(&args),
     };
+    if result.is_err() {
+        atomic::remove_made_dirs();
+    }
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.is::<interrupt::Interrupted>() => {

@@ -5,7 +5,7 @@
 use std::os::unix::fs::MetadataExt;
 use std::path::{Component, Path, PathBuf};
 
-use crate::atomic::{directory, remove_stale_temporaries, temporary};
+use crate::atomic::{directory, make_dirs, remove_stale_temporaries, temporary};
 
 /// Checks that `path` can be written (its directory exists or can be made, and a file can be
 /// created there) without touching an existing file at `path`; removes the temporaries of
@@ -22,7 +22,7 @@ pub fn check_writable(path: &Path) -> Result<(), String> {
         return Err(format!("cannot write {}: no file name", path.display()));
     }
     let dir = directory(path);
-    std::fs::create_dir_all(&dir).map_err(fail)?;
+    make_dirs(&dir).map_err(fail)?;
     remove_stale_temporaries(std::slice::from_ref(&path.to_path_buf()));
     let probe = temporary(path);
     std::fs::File::create(&probe).map_err(fail)?;

@@ -200,3 +200,33 @@ fn a_scene_that_is_one_of_the_outputs_is_refused() {
     assert_eq!(read(&scene), before);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A run that fails after its output directory was made (here an inelastic collapse, found
+/// mid-run) leaves no empty directory behind, nor the parents it made for it; a directory that
+/// existed before stays.
+#[test]
+fn a_failed_run_leaves_no_empty_output_directory() {
+    let dir = scratch("outdir-failed");
+    let scene = dir.join("collapse.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 50.0\nsnapshot_every = 5.0\nseed = 2\n\n[boundary]\nkind = \"periodic\"\n\n\
+         [effects]\nresponse = \"inelastic\"\nrestitution = 0.05\n\n[[generate]]\n\
+         kind = \"periodic_gas\"\nn = 500\nphi = 0.45\nradius = 0.5\ntemperature = 1.0\n",
+    )
+    .unwrap();
+    let o = output(&scene, &dir.join("made/out"), &[]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("inelastic collapse"), "{}", stderr(&o));
+    assert!(
+        !dir.join("made").exists(),
+        "the directories made for the run stay"
+    );
+    std::fs::create_dir(dir.join("there")).unwrap();
+    let o = output(&scene, &dir.join("there"), &[]);
+    assert!(!o.status.success());
+    assert!(
+        dir.join("there").is_dir(),
+        "a directory that existed before is removed"
+    );
+}
