@@ -65,7 +65,9 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
 fn table(args: &Args) -> Result<(), Box<dyn Error>> {
     let t_max = args.t_max.unwrap_or(10.0);
     let accuracy = args.accuracy.unwrap_or(Accuracy::Stable);
-    let options = QueryOptions::new(t_max, accuracy)?.with_geometry(true);
+    let options = QueryOptions::new(t_max, accuracy)
+        .map_err(|_| format!("--t-max must be zero or more (or inf for no end), got {t_max}"))?
+        .with_geometry(true);
     if let Some(path) = &args.svg {
         // Before any output: a bad path fails now, not after the table.
         crate::output::check_writable(path)?;
@@ -466,7 +468,8 @@ fn write_kernels(out: &mut impl Write, stats: &Stats) -> std::io::Result<()> {
     .collect();
     writeln!(
         out,
-        "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}: {} ran",
+        "kernels      sphere {} (approaching pairs solved in f64, four at a time), plane {}, \
+         cylinder {}, container {}: {} ran",
         k.sphere,
         k.plane,
         k.cylinder,

@@ -50,7 +50,7 @@ fn bad_arguments_fail_with_a_message_naming_them() {
     let out = run(&["demo", "--t-max=-1"]);
     assert!(!out.status.success());
     assert!(
-        text(&out.stderr).contains("t_max must be zero or more"),
+        text(&out.stderr).contains("--t-max must be zero or more"),
         "{}",
         text(&out.stderr)
     );
@@ -178,7 +178,7 @@ fn a_negative_window_is_a_clear_error() {
     let out = run(&["demo", "--t-max", "-1"]);
     assert!(!out.status.success());
     assert!(
-        text(&out.stderr).contains("t_max must be zero or more"),
+        text(&out.stderr).contains("--t-max must be zero or more"),
         "{}",
         text(&out.stderr)
     );

@@ -30,9 +30,9 @@ pub struct About {
 impl About {
     pub fn of(scene: &Path, world: &World) -> Self {
         let describe = format!(
-            "{}: {} spheres, {} material(s), {}, {}",
+            "{}: {}, {} material(s), {}, {}",
             scene.display(),
-            world.spheres.len(),
+            counted(world.spheres.len() as u64, "sphere", "spheres"),
             world.materials.len(),
             crate::statics_text(&world.statics),
             match world.boundary {
@@ -54,11 +54,13 @@ impl About {
             elastic: world.effects.response == Response::Elastic && world.effects.pairs.is_empty(),
             equal_radii: world.spheres.windows(2).all(|w| w[0].radius == w[1].radius),
             gravity: world.effects.gravity,
-            potential_start: world
-                .spheres
-                .iter()
-                .map(|s| -s.mass * world.effects.gravity.dot(s.centre))
-                .sum(),
+            potential_start: unsigned_zero(
+                world
+                    .spheres
+                    .iter()
+                    .map(|s| -s.mass * world.effects.gravity.dot(s.centre))
+                    .sum(),
+            ),
         }
     }
 }
@@ -75,6 +77,17 @@ fn balance(k0: f64, k1: f64, u0: f64, u1: f64, lost: f64) -> f64 {
 
 fn relative(change: f64, scale: f64) -> f64 {
     if scale > 0.0 { change / scale } else { change }
+}
+
+/// `x`, with a zero of either sign as `+0` (an empty sum is `-0.0`, which would print and
+/// serialise as `-0`).
+fn unsigned_zero(x: f64) -> f64 {
+    if x == 0.0 { 0.0 } else { x }
+}
+
+/// `n` and the noun, singular for one: `1 frame`, `3 frames`.
+fn counted(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// `summary.json`, the figures of a completed run (docs/run-summary.md documents each field).
@@ -186,7 +199,8 @@ struct Clusters {
 /// Kernel evaluations by kind of the other body.
 #[derive(Debug, Serialize)]
 struct Kernels {
-    /// Sphere–sphere kernel lanes run (8 a call).
+    /// Sphere–sphere pairs answered: the approaching pairs of the neighbour lists, solved in
+    /// f64 four at a time (`KernelCounts::sphere`).
     sphere: u64,
     /// Sphere–plane kernel evaluations.
     plane: u64,
@@ -226,7 +240,8 @@ impl Summary {
         let finite = |x: f64| (!x.is_nan()).then_some(x.max(0.0));
         let stats = *sim.stats();
         let v3 = |v: DVec3| [v.x, v.y, v.z];
-        let (ke1, pe1) = (sim.kinetic_energy(), sim.potential_energy());
+        let (ke0, ke1) = (unsigned_zero(c.ke0), unsigned_zero(sim.kinetic_energy()));
+        let pe1 = unsigned_zero(sim.potential_energy());
         let clusters = sim.clusters();
         let collisions = stats.pair_collisions + stats.wall_collisions;
         Ok(Self {
@@ -242,9 +257,9 @@ impl Summary {
                 per_second: collisions as f64 / c.simulated.max(1e-9),
             },
             kinetic_energy: Energy {
-                start: c.ke0,
+                start: ke0,
                 end: ke1,
-                relative_drift: relative(ke1 - c.ke0, c.ke0),
+                relative_drift: relative(ke1 - ke0, ke0),
             },
             potential_energy: Energy {
                 start: about.potential_start,
@@ -252,7 +267,7 @@ impl Summary {
                 relative_drift: relative(pe1 - about.potential_start, about.potential_start.abs()),
             },
             energy_lost: stats.energy_lost,
-            energy_balance: balance(c.ke0, ke1, about.potential_start, pe1, stats.energy_lost),
+            energy_balance: balance(ke0, ke1, about.potential_start, pe1, stats.energy_lost),
             momentum: Momentum {
                 start: v3(c.p0),
                 end: v3(sim.momentum()),
@@ -318,15 +333,13 @@ pub fn finish(mut run: Run, about: &About) -> Result<(), Box<dyn Error>> {
     let mut wrote = Vec::new();
     if run.trajectory.is_some() {
         let path = dir.file(outputs::TRAJECTORY);
-        wrote.push(format!("{} ({} frames)", path.display(), summary.frames));
+        let frames = counted(summary.frames, "frame", "frames");
+        wrote.push(format!("{} ({frames})", path.display()));
     }
     if run.events.is_some() {
         let path = dir.file(outputs::EVENTS);
-        wrote.push(format!(
-            "{} ({} events)",
-            path.display(),
-            run.counters.logged
-        ));
+        let events = counted(run.counters.logged, "event", "events");
+        wrote.push(format!("{} ({events})", path.display()));
     }
     let staged = [run.trajectory.take(), run.events.take()];
     dir.replace_outputs(staged.into_iter().flatten().collect(), &summary.run)?;
@@ -365,8 +378,10 @@ impl Summary {
         )?;
         writeln!(
             out,
-            "kinetic      {:.9e} → {:.9e} (relative drift {:+.3e})",
-            e.start, e.end, e.relative_drift
+            "kinetic      {:.9e} → {:.9e} ({})",
+            e.start,
+            e.end,
+            kinetic_change(e, about)
         )?;
         if about.gravity != DVec3::ZERO {
             let u = &self.potential_energy;
@@ -411,7 +426,8 @@ impl Summary {
         let k = &self.kernels;
         writeln!(
             out,
-            "kernels      sphere {} (8-wide lanes), plane {}, cylinder {}, container {}",
+            "kernels      sphere {} (approaching pairs solved in f64, four at a time), plane {}, \
+             cylinder {}, container {}",
             k.sphere, k.plane, k.cylinder, k.container
         )?;
         if c.pair + c.wall > 0 {
@@ -436,8 +452,8 @@ impl Summary {
         if c.wall > 0 && self.slid > 0 {
             writeln!(
                 out,
-                "sliding      {} wall collisions left a container at its floor angle (docs/derivations/simulation.md, \"Concave walls\")",
-                self.slid
+                "sliding      {} left a container at its floor angle (docs/derivations/simulation.md, \"Concave walls\")",
+                counted(self.slid, "wall collision", "wall collisions")
             )?;
         }
         if let Some(p) = &self.pressure {
@@ -453,6 +469,27 @@ impl Summary {
         }
         Ok(())
     }
+}
+
+/// What the kinetic energy's change from start to end is: its drift, an error, where the
+/// collisions conserve it; a change where they take energy or gravity exchanges it with the
+/// potential energy (the energy lost line then gives the balance of `K + U`). From rest the
+/// change is absolute (`relative_drift` is then `end − start`).
+fn kinetic_change(e: &Energy, about: &About) -> String {
+    let gravity = about.gravity != DVec3::ZERO;
+    let what = match (about.elastic && !gravity, e.start > 0.0) {
+        (true, true) => "relative drift",
+        (false, true) => "relative change",
+        (_, false) => "change from rest",
+    };
+    let mut text = format!("{what} {:+.3e}", e.relative_drift);
+    if gravity {
+        text.push_str(
+            "; under gravity K alone is not conserved: the balance of K + U is on the energy \
+             lost line",
+        );
+    }
+    text
 }
 
 /// A rate with an SI prefix.
