@@ -434,7 +434,15 @@ struct Plan {
 
 impl Plan {
     fn of(args: &Args) -> Result<Self, Box<dyn Error>> {
-        let options = QueryOptions::new(args.t_max, args.accuracy)?.with_geometry(args.geometry);
+        // The library's message names its parameter, `t_max`; here it is the option's.
+        let options = QueryOptions::new(args.t_max, args.accuracy)
+            .map_err(|_| {
+                format!(
+                    "--t-max must be zero or more (or inf for no end), got {}",
+                    args.t_max
+                )
+            })?
+            .with_geometry(args.geometry);
         if !(1..=MAX_CHUNK_ROWS).contains(&args.chunk_rows) {
             return Err(format!(
                 "--chunk-rows {} must be between 1 and {MAX_CHUNK_ROWS}",

@@ -846,6 +846,54 @@ fn columns_of_the_wrong_name_type_or_length_are_named() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A spheres file queried without `--against` is told to add it (with what a shapes file
+/// is), a pairs file queried with it to leave it out; an input with neither layout's columns
+/// gets no such hint.
+#[test]
+fn a_file_of_the_other_layout_is_told_how_to_query_it() {
+    let dir = scratch("query-other-layout");
+    let spheres = dir.join("s.csv");
+    write_csv(&spheres, &SPHERE_COLUMNS, &sphere_rows(3, 5));
+    let matrix = dir.join("s.npy");
+    write_npy_2d(&matrix, &sphere_rows(3, 5), false, |v, _, _| v);
+    let pairs = dir.join("p.csv");
+    write_csv(&pairs, &PAIR_COLUMNS, &pair_rows(3, 5));
+    let other = dir.join("o.csv");
+    std::fs::write(&other, "x,y,z\n0,0,0\n").unwrap();
+    let shapes = dir.join("shapes.toml");
+    std::fs::write(&shapes, SHAPES_TOML).unwrap();
+    let keep = ["s.csv", "s.npy", "p.csv", "o.csv", "shapes.toml"];
+    let against = "to query every sphere against static shapes, give the shapes with --against \
+                   SHAPES (a TOML or JSON file of [[plane]], [[cylinder]] and [[container]] \
+                   tables, as in a scene file; docs/query-format.md)";
+    for input in [&spheres, &matrix] {
+        let err = refused(&[path_str(input)], &dir, &keep);
+        assert!(
+            err.contains("these are a spheres file's columns") && err.contains(against),
+            "{err}"
+        );
+    }
+    let err = refused(
+        &[path_str(&pairs), "--against", path_str(&shapes)],
+        &dir,
+        &keep,
+    );
+    assert!(
+        err.contains("no column x: a spheres file")
+            && err.contains(
+                "these are a pairs file's columns: a pairs file is queried without --against"
+            ),
+        "{err}"
+    );
+    let err = refused(&[path_str(&other)], &dir, &keep);
+    assert!(
+        err.contains("no column ax") && !err.contains("--against"),
+        "{err}"
+    );
+    // And with --against, the spheres file is answered.
+    query(&[path_str(&spheres), "--against", path_str(&shapes)]);
+}
+
 #[test]
 fn missing_files_name_their_path() {
     let dir = scratch("query-missing");
@@ -1065,7 +1113,10 @@ fn bad_arguments_are_refused_before_any_output() {
             vec![p, "--chunk-rows", "0"],
             "--chunk-rows 0 must be between 1 and",
         ),
-        (vec![p, "--t-max=-1"], "t_max must be zero or more"),
+        (
+            vec![p, "--t-max=-1"],
+            "--t-max must be zero or more (or inf for no end), got -1",
+        ),
         (vec![p, "--accuracy", "fast"], "unknown accuracy mode"),
         (
             vec![p, "--out", "/tmp/x.txt"],

@@ -51,10 +51,11 @@ fn check_schema(what: &str, schema: &Schema, layout: Layout) -> Result<Vec<usize
             let (k, field) = schema.column_with_name(name).ok_or_else(|| {
                 let names: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
                 format!(
-                    "{what}: no column {name}: {} has the columns {} (the file has {})",
+                    "{what}: no column {name}: {} has the columns {} (the file has {}){}",
                     layout.file_noun(),
                     layout.column_list(),
-                    names.join(", ")
+                    names.join(", "),
+                    layout.other_layout_hint(|c| names.contains(&c))
                 )
             })?;
             match field.data_type() {

@@ -127,10 +127,11 @@ impl CsvSource {
                 }
                 (None, _) => {
                     return Err(format!(
-                        "{at}: no column {col}: {} has the columns {} (the header has {})",
+                        "{at}: no column {col}: {} has the columns {} (the header has {}){}",
                         layout.file_noun(),
                         layout.column_list(),
-                        names.join(", ")
+                        names.join(", "),
+                        layout.other_layout_hint(|c| names.iter().any(|n| n == c))
                     ));
                 }
             }

@@ -51,6 +51,49 @@ impl Layout {
     pub fn column_list(self) -> String {
         self.columns().join(", ")
     }
+
+    /// The other layout: the one the other mode of the query (with or without `--against`)
+    /// reads.
+    pub fn other(self) -> Layout {
+        match self {
+            Layout::Pairs => Layout::Spheres,
+            Layout::Spheres => Layout::Pairs,
+        }
+    }
+
+    /// For a message refusing an input that lacks this layout's columns: when it has every
+    /// column of the other layout (`has` tells which names it has), the way to query it,
+    /// as `; …` to end the message with; else nothing.
+    pub fn other_layout_hint(self, has: impl Fn(&str) -> bool) -> &'static str {
+        if self.other().columns().iter().all(|c| has(c)) {
+            self.other_layout_text()
+        } else {
+            ""
+        }
+    }
+
+    /// The same for an input whose shape is the other layout's (a 2-D array of `columns`
+    /// columns).
+    pub fn other_shape_hint(self, columns: u64) -> &'static str {
+        if columns == self.other().columns().len() as u64 {
+            self.other_layout_text()
+        } else {
+            ""
+        }
+    }
+
+    fn other_layout_text(self) -> &'static str {
+        match self {
+            Layout::Pairs => {
+                "; these are a spheres file's columns: to query every sphere against static \
+                 shapes, give the shapes with --against SHAPES (a TOML or JSON file of [[plane]], \
+                 [[cylinder]] and [[container]] tables, as in a scene file; docs/query-format.md)"
+            }
+            Layout::Spheres => {
+                "; these are a pairs file's columns: a pairs file is queried without --against"
+            }
+        }
+    }
 }
 
 /// Rows read from an input, one `f32` column per input column in the layout's order.

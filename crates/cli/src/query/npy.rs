@@ -284,11 +284,12 @@ impl NpySource {
             .find(|(f, _)| !f.is_file())
         {
             return Err(format!(
-                "{}: no {} (column {name}): {} as a directory holds one .npy per column: {}",
+                "{}: no {} (column {name}): {} as a directory holds one .npy per column: {}{}",
                 dir.display(),
                 missing.file_name().unwrap_or_default().to_string_lossy(),
                 layout.file_noun(),
-                layout.column_list()
+                layout.column_list(),
+                layout.other_layout_hint(|c| dir.join(format!("{c}.npy")).is_file())
             ));
         }
         Self::columns(&files, layout, dir.display().to_string())
@@ -300,11 +301,22 @@ impl NpySource {
         for path in paths {
             let stem = path.file_stem().unwrap_or_default().to_string_lossy();
             let Some(k) = layout.columns().iter().position(|c| *c == stem) else {
+                let stems: Vec<String> = paths
+                    .iter()
+                    .map(|p| {
+                        p.file_stem()
+                            .unwrap_or_default()
+                            .to_string_lossy()
+                            .into_owned()
+                    })
+                    .collect();
                 return Err(format!(
-                    "{}: {stem} is not a column of {}: {} (each file is named after its column)",
+                    "{}: {stem} is not a column of {}: {} (each file is named after its \
+                     column){}",
                     path.display(),
                     layout.file_noun(),
-                    layout.column_list()
+                    layout.column_list(),
+                    layout.other_layout_hint(|c| stems.iter().any(|s| s == c))
                 ));
             };
             if files[k].replace(path.clone()).is_some() {
@@ -336,8 +348,12 @@ impl NpySource {
         let n = match array.shape[..] {
             [n, cols] if cols == k as u64 => n,
             _ => {
+                let hint = match array.shape[..] {
+                    [_, cols] => layout.other_shape_hint(cols),
+                    _ => "",
+                };
                 return Err(format!(
-                    "{what}: shape {}, expected (N, {k}) for {}: columns {}",
+                    "{what}: shape {}, expected (N, {k}) for {}: columns {}{hint}",
                     shape_text(&array.shape),
                     layout.file_noun(),
                     layout.column_list()
