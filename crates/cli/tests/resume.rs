@@ -1,7 +1,7 @@
 //! `spheresweep run --checkpoint-every` / `--resume`: a run killed with SIGKILL after one of
 //! its checkpoints and resumed from it ends with outputs identical, byte for byte, to those of a
 //! run never interrupted (the trajectory holds every snapshot up to the final state, the event
-//! log every event); a damaged checkpoint, one of another scene, and a changed partial output
+//! log every event), written beside the checkpoint when no --out is given; a damaged checkpoint, one of another scene, and a changed partial output
 //! are refused, saying why.
 
 mod common;
@@ -78,7 +78,19 @@ fn a_killed_run_resumes_to_the_same_bytes() {
         "--resume",
         checkpoint.to_str().unwrap(),
     ];
-    success(&scene, &killed, &resume);
+    // No --out: a resume writes where its checkpoint is.
+    let o = common::bin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--quiet")
+        .args(resume)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        !dir.join("gas-run").exists(),
+        "the resume wrote to the scene's default"
+    );
     for name in ["trajectory.xyz", "events.csv"] {
         assert!(
             read(&full.join(name)) == read(&killed.join(name)),

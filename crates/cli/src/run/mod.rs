@@ -78,7 +78,19 @@ fn place(
     spheres: usize,
     periodic_box: Option<glam::DVec3>,
 ) -> Result<Place, String> {
-    let dir = OutDir::new(args.out.as_deref(), &args.scene)?;
+    // A resume writes where its checkpoint is, unless told otherwise: the run's directory.
+    let resumed_in = args
+        .resume
+        .as_deref()
+        .and_then(std::path::Path::parent)
+        .map(|d| {
+            if d.as_os_str().is_empty() {
+                std::path::Path::new(".")
+            } else {
+                d
+            }
+        });
+    let dir = OutDir::new(args.out.as_deref().or(resumed_in), &args.scene)?;
     let lock = dir.lock()?;
     let budget = limits::Budget::new(args.max_output.as_deref(), &dir.0)?;
     let (next_stop, written) = resume.map_or((0, 0), |c| {

@@ -21,7 +21,7 @@ pub struct Args {
     /// The scene file: TOML, or JSON if its name ends in .json.
     pub scene: PathBuf,
     /// Directory for trajectory.xyz, events.csv and summary.json (default: `<stem>-run/`
-    /// beside the scene). One run a directory: a directory that holds another run's outputs,
+    /// beside the scene; with --resume, the checkpoint's directory). One run a directory: a directory that holds another run's outputs,
     /// or a checkpoint, is refused without --force.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -43,8 +43,8 @@ pub struct Args {
     #[arg(long, value_name = "T")]
     pub checkpoint_every: Option<f64>,
     /// Continue the run a checkpoint of this scene holds (`--checkpoint-every`): the outputs
-    /// end exactly as those of a run never interrupted. Give the scene, --out and options the
-    /// run was started with: another end time, snapshot spacing, checkpoint spacing or scene
+    /// end exactly as those of a run never interrupted. Give the scene and options the run
+    /// was started with (--out is the checkpoint's directory unless given): another end time, snapshot spacing, checkpoint spacing or scene
     /// is refused. Default: start from t = 0.
     #[arg(long, value_name = "CHECKPOINT")]
     pub resume: Option<PathBuf>,
