@@ -168,10 +168,14 @@ struct Band {
     corners: [(f64, f64); 4],
 }
 
+/// How opaque a pillar seen from the side is: the spheres behind it show through, dimmed
+/// (a granular jet falling between four pillars was hidden whole behind the nearer ones).
+const BAND_OPACITY: f32 = 0.6;
+
 impl Band {
     fn draw(self, canvas: &mut Canvas) {
         let [a, b, c, d] = self.corners;
-        canvas.polygon(self.corners.to_vec(), PILLAR);
+        canvas.polygon(self.corners.to_vec(), PILLAR.alpha(BAND_OPACITY));
         canvas.line(vec![a, b], PILLAR.shade(0.7), 1.5);
         canvas.line(vec![d, c], PILLAR.shade(0.7), 1.5);
     }
@@ -179,7 +183,7 @@ impl Band {
 
 /// Cylinders seen along their axis as disks, drawn now; the others as bands of half-width r,
 /// returned nearest last, to be drawn in depth order with the spheres (a sphere behind a
-/// pillar is hidden by it).
+/// pillar is dimmed by it, `BAND_OPACITY`; one in front is drawn over it).
 fn cylinders(canvas: &mut Canvas, scope: &Scope, shapes: &Shapes) -> Vec<Band> {
     let (view, map) = (scope.view, &scope.map);
     let (eu, ev, _) = view.axes();
@@ -413,8 +417,8 @@ mod tests {
     use super::super::canvas::Paint;
     use super::*;
 
-    /// In the side view a pillar hides the sphere behind it and not the one in front (the
-    /// pillar used to be drawn under every sphere).
+    /// In the side view a pillar dims the sphere behind it and not the one in front (the
+    /// pillar used to be drawn under every sphere, then hid those behind it whole).
     #[test]
     fn a_pillar_is_drawn_in_depth_order_with_the_spheres() {
         let ball = |x: f64, y: f64, z: f64| SphereState {
@@ -463,17 +467,29 @@ mod tests {
             let k = 3 * (j * 202 + i);
             [raster[k], raster[k + 1], raster[k + 2]]
         };
-        let pillar = at(0.0, 0.0);
-        assert_eq!(
-            pillar,
-            [PILLAR.0, PILLAR.1, PILLAR.2],
-            "the pillar is drawn"
+        // Each channel of `top` at opacity `alpha` over `under`, within a unit of rounding.
+        let over = |top: Rgb, under: [u8; 3], alpha: f32| {
+            let mix = |t: u8, u: u8| f32::from(t) * alpha + f32::from(u) * (1.0 - alpha);
+            [
+                mix(top.0, under[0]),
+                mix(top.1, under[1]),
+                mix(top.2, under[2]),
+            ]
+        };
+        let near = |got: [u8; 3], want: [f32; 3]| {
+            got.iter()
+                .zip(want)
+                .all(|(&g, w)| (f32::from(g) - w).abs() <= 1.5)
+        };
+        let (pillar, ground) = (at(0.0, 0.0), at(4.0, 0.0));
+        assert!(
+            near(pillar, over(PILLAR, ground, BAND_OPACITY)),
+            "the pillar is drawn: {pillar:?} over {ground:?}"
         );
-        assert_ne!(pillar, at(4.0, 0.0));
-        assert_eq!(
-            at(0.0, -2.0),
-            pillar,
-            "the sphere behind the pillar is hidden"
+        let behind = at(0.0, -2.0);
+        assert!(
+            near(behind, over(PILLAR, [255, 0, 0], BAND_OPACITY)),
+            "the sphere behind the pillar is dimmed by it: {behind:?}"
         );
         assert_eq!(
             at(0.0, 3.0),
