@@ -385,5 +385,7 @@ fn huge_numbers_in_messages_are_in_exponent_form() {
         "{err}"
     );
     assert!(!err.contains("00000000000000"), "{err}");
+    // It says where each figure came from: the scene file's spacing, the flag's end.
+    assert!(err.contains("gas.toml's snapshot_every, --t-end)"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

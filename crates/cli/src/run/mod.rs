@@ -43,7 +43,21 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     if let Some(c) = &resume {
         same_run(args, c, &settings, fingerprint)?;
     }
-    settings.check()?;
+    settings.check().map_err(|e| {
+        // Where the spacing and the end came from: the flags, or the scene file.
+        let from = |flag: bool, name: &str, key: &str| {
+            if flag {
+                name.to_string()
+            } else {
+                format!("{}'s {key}", args.scene.display())
+            }
+        };
+        format!(
+            "{e} ({}, {})",
+            from(args.snapshots.is_some(), "--snapshots", "snapshot_every"),
+            from(args.t_end.is_some(), "--t-end", "t_end")
+        )
+    })?;
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
     let n = world.spheres.len();
