@@ -167,6 +167,13 @@ fn scene_record(args: &Args) -> Result<Record, Box<dyn Error>> {
         .into());
     }
     let world = scene_world(&args.input)?;
+    if let Some(why) = refusal(&args.input, &world) {
+        // Drawn all the same: the picture is how one sees what is wrong.
+        eprintln!(
+            "warning: {}: drawn, but `run` refuses this scene: {why}",
+            args.input.display()
+        );
+    }
     let shapes = Shapes::of_world(&world);
     Ok(Record {
         chosen: vec![0],
@@ -180,6 +187,16 @@ fn scene_record(args: &Args) -> Result<Record, Box<dyn Error>> {
         shapes,
         scene_path: None,
         note: None,
+    })
+}
+
+/// Why `run` would refuse the scene at `path` (spheres overlapping, or through a shape, at the
+/// start), located in the file; `None` if it would run it.
+fn refusal(path: &Path, world: &spheresweep::sim::World) -> Option<String> {
+    let err = spheresweep::sim::Simulation::new(world.clone()).err()?;
+    Some(match SceneFile::from_path(path) {
+        Ok(scene) => scene.locate(err).to_string(),
+        Err(_) => err.to_string(),
     })
 }
 

@@ -271,3 +271,24 @@ fn the_periodic_box_is_outlined_over_the_spheres() {
     assert!(texts.iter().any(|t| t == "periodic box"), "{texts:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A scene `run` refuses (two spheres overlapping at the start) is drawn, with a warning that
+/// says why and where; a scene it runs draws with none.
+#[test]
+fn a_scene_run_refuses_is_drawn_with_a_warning() {
+    let dir = scratch("render-refused");
+    let sphere = |x: f64| format!("[[sphere]]\ncentre = [{x}, 0, 0]\nradius = 1\n\n");
+    for (name, second, warned) in [("overlap", 1.0, true), ("apart", 3.0, false)] {
+        let scene = dir.join(format!("{name}.toml"));
+        let text = format!("[run]\nt_end = 1\n\n{}{}", sphere(0.0), sphere(second));
+        std::fs::write(&scene, text).unwrap();
+        let out = spheresweep(&["render", s(&scene), "--out", s(&dir.join(name))]);
+        ok(&out);
+        let err = String::from_utf8_lossy(&out.stderr);
+        let want = "drawn, but `run` refuses this scene: ";
+        assert_eq!(err.contains(want), warned, "{name}: {err}");
+        if warned {
+            assert!(err.contains("spheres 0 and 1 overlap by 1e0"), "{err}");
+        }
+    }
+}
