@@ -697,8 +697,10 @@ impl<
         }
         let changes = 2 * self.stats.pair_collisions + self.stats.wall_collisions;
         // `shell > now · n / changes`, multiplied out (`den` and `changes` are positive).
-        let n = self.m.bodies.len() as f64;
-        let far = shell.num * changes as f64 > self.now * n * shell.den;
+        // Through `i64`, one instruction where `u64` takes a sequence (both counts are far
+        // below 2⁶³, and round alike).
+        let n = self.m.bodies.len() as i64 as f64;
+        let far = shell.num * changes as i64 as f64 > self.now * n * shell.den;
         far.then(|| shell.reaching(self.now))
     }
 
