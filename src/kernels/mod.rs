@@ -40,6 +40,12 @@ pub trait StaticKernel: Sync {
     /// Whether a sphere swept inside the box `[lo, hi]` (f64, finite) could touch the shape:
     /// `false` only when none can, so a caller may skip the kernel.
     fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool;
+    /// Whether the shape, alone, is what spheres in the periodic box `[0, size)` meet, with
+    /// no periodic image of it within `margin` of where they can be: a plane or a cylinder
+    /// along a box axis, at least `margin` from the faces it crosses; a container inside the
+    /// box. The engine keeps no images of shapes (docs/derivations/simulation.md, "Shapes in
+    /// a periodic box").
+    fn fits_periodic_box(&self, size: DVec3, margin: f64) -> bool;
     /// The unit normal from the shape towards a sphere centred at `r` and the signed gap
     /// between the sphere and the shape (negative when it is through).
     fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64);
@@ -94,7 +100,7 @@ pub(crate) fn sphere_settle_lanes(r: DVec3, v: DVec3, radius: f64) -> SettleSphe
 }
 
 macro_rules! static_kernel {
-    ($t:ident, $lanes:ident, $kernel:ident, $reach:ident { $($extra:item)* }) => {
+    ($t:ident, $lanes:ident, $kernel:ident, $reach:ident, $fits:ident { $($extra:item)* }) => {
         impl StaticKernel for $t {
             type Lanes<L: Lanes> = $lanes<L>;
             #[inline]
@@ -107,6 +113,9 @@ macro_rules! static_kernel {
             }
             fn may_reach(&self, lo: DVec3, hi: DVec3) -> bool {
                 $reach(self, lo, hi)
+            }
+            fn fits_periodic_box(&self, size: DVec3, margin: f64) -> bool {
+                $fits(self, size, margin)
             }
             #[inline]
             fn normal_gap(&self, r: DVec3, radius: f64) -> (DVec3, f64) {
@@ -126,7 +135,7 @@ macro_rules! static_kernel {
         }
     };
 }
-static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach {
+static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach, plane_fits {
     fn side(&self, r: DVec3) -> bool {
         sphere_plane::side(self, r)
     }
@@ -138,13 +147,13 @@ static_kernel!(Plane, PlaneLanes, sphere_plane, plane_may_reach {
         sphere_plane::least_gap_on_path(self, r, far_end(r, v, horizon), radius)
     }
 });
-static_kernel!(Cylinder, CylinderLanes, sphere_cylinder, cylinder_may_reach {
+static_kernel!(Cylinder, CylinderLanes, sphere_cylinder, cylinder_may_reach, cylinder_fits {
     #[cfg(test)]
     fn least_gap_on_path(&self, r: DVec3, v: DVec3, horizon: f64, radius: f64) -> f64 {
         sphere_cylinder::least_gap_on_path(self, r, v, horizon, radius)
     }
 });
-static_kernel!(Container, ContainerLanes, sphere_container, container_may_reach {
+static_kernel!(Container, ContainerLanes, sphere_container, container_may_reach, container_fits {
     fn interior(&self) -> Option<(DVec3, f64)> {
         Some((self.centre().as_dvec3(), f64::from(self.radius())))
     }
@@ -162,6 +171,40 @@ fn far_end(r: DVec3, v: DVec3, horizon: f64) -> DVec3 {
     } else {
         r + v * 1e12
     }
+}
+
+/// The axis `d` runs along, if it is a box axis (its other two components exactly zero).
+fn box_axis(d: DVec3) -> Option<usize> {
+    let along = [d.x, d.y, d.z].map(|x| x != 0.0);
+    (along.iter().filter(|&&a| a).count() == 1).then(|| along.iter().position(|&a| a))?
+}
+
+/// `x` within `[lo, size − lo]`.
+fn within(x: f64, lo: f64, size: f64) -> bool {
+    lo <= x && x <= size - lo
+}
+
+/// A plane across a box axis, at least `margin` from the two faces across that axis: a sphere
+/// that wraps past them meets the plane itself, not an image of it.
+fn plane_fits(p: &Plane, size: DVec3, margin: f64) -> bool {
+    box_axis(p.normal().as_dvec3())
+        .is_some_and(|k| within(f64::from(p.point()[k]), margin, size[k]))
+}
+
+/// A cylinder along a box axis, its surface at least `margin` from the faces across it.
+fn cylinder_fits(c: &Cylinder, size: DVec3, margin: f64) -> bool {
+    let (q, r) = (c.point().as_dvec3(), f64::from(c.radius()));
+    box_axis(c.axis().as_dvec3()).is_some_and(|k| {
+        (0..3)
+            .filter(|&j| j != k)
+            .all(|j| within(q[j], r + margin, size[j]))
+    })
+}
+
+/// A container inside the box: the spheres it holds never reach a face.
+fn container_fits(c: &Container, size: DVec3, _margin: f64) -> bool {
+    let (q, r) = (c.centre().as_dvec3(), f64::from(c.radius()));
+    (0..3).all(|k| within(q[k], r, size[k]))
 }
 
 /// The box's extent along the normal straddles the plane.

@@ -132,6 +132,35 @@ const PERIODIC_SHELL_CAP: f64 = 1.9;
 /// makes long lists.
 const OPEN_SHELL_CAP: f64 = 1.0;
 
+/// Refuses a static shape whose periodic images spheres could meet: the engine keeps none
+/// (docs/derivations/simulation.md, "Shapes in a periodic box"). `margin`, two largest
+/// diameters, is more than a sphere's radius and how far its centre goes past a face before
+/// its shell event wraps it (the shell's half-width, at most 0.95 diameters).
+fn shapes_fit_periodic_box<P>(
+    statics: &Statics<P>,
+    size: DVec3,
+    margin: f64,
+) -> Result<(), SimError> {
+    struct Fits(DVec3, f64);
+    impl crate::statics::ShapeFn for Fits {
+        type Output = bool;
+        fn call<K: crate::StaticShape>(self, shape: &K) -> bool {
+            shape.fits_periodic_box(self.0, self.1)
+        }
+    }
+    match statics
+        .iter()
+        .find(|(_, shape, _)| !shape.apply(Fits(size, margin)))
+    {
+        Some((body, _, _)) => Err(SimError::PeriodicShape {
+            shape: body.kind,
+            index: body.index as usize,
+            margin,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The cell grid over the boundary (cells at least one largest diameter and the shell wide),
 /// whether it wraps (a periodic box at least three largest diameters a side, an open box as
 /// given, or open space around the spheres and containers), and the shells' half-width.
@@ -171,6 +200,7 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
                     });
                 }
             }
+            shapes_fit_periodic_box(&world.statics, size, 2.0 * min_width)?;
             // At most about four cells per sphere: a sparse box gets wider cells, not a huge
             // grid. A small box may have fewer than three a side: the lists then hold each
             // periodic image apart.

@@ -215,6 +215,23 @@ pub enum SimError {
         /// The smallest length accepted.
         needed: f64,
     },
+    /// A static shape in a periodic box whose periodic images spheres could meet: the engine
+    /// keeps none.
+    #[error(
+        "{shape} {index} in a periodic box: the engine keeps no periodic images of shapes, so \
+         a plane's normal or a cylinder's axis must lie along a box axis, at least {} (two \
+         largest diameters, and a cylinder's radius) from the faces it crosses, and a \
+         container must lie inside the box",
+        crate::error::Num(*margin)
+    )]
+    PeriodicShape {
+        /// The shape's kind.
+        shape: crate::ShapeKind,
+        /// The shape's index.
+        index: usize,
+        /// How far from the faces it must be.
+        margin: f64,
+    },
     /// An effect's parameter is out of range.
     #[error("effects: {0}")]
     Effects(String),

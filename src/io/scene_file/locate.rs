@@ -176,6 +176,10 @@ impl SceneFile {
                 self.sim_error(format!("{item} and {shape} {index}"), &path, err)
             }
             SimError::Box { .. } => self.sim_error("boundary", &[Key("boundary")], err),
+            SimError::PeriodicShape { shape, index, .. } => {
+                let item = format!("{shape} {index}");
+                self.sim_error(item, &[Key(shape.name()), At(*index)], err)
+            }
             SimError::Range { what } if what.ends_with("box") => {
                 self.sim_error("boundary", &[Key("boundary")], err)
             }
