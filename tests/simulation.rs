@@ -825,4 +825,10 @@ fn a_scene_computes_alike_at_any_units_within_the_range() {
         s.velocity *= 1e-31;
     }
     assert!(refused(slow).starts_with("the fastest sphere: outside the range"));
+    for radius in [1e-200, 1e31] {
+        let e = generate::periodic_gas(&mut World::default(), 32, 0.2, radius, 1.0, 1);
+        let e = e.unwrap_err().to_string();
+        let want = format!("periodic gas: radius = {radius:?} is outside 2⁻¹⁰⁰ to 2¹⁰⁰");
+        assert!(e.starts_with(&want), "{e}");
+    }
 }

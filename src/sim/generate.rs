@@ -27,15 +27,21 @@ fn refuse<T>(generator: &'static str, field: &'static str, problem: String) -> R
     })
 }
 
-/// A generator's radius: finite and greater than 0.
+/// A generator's radius: finite, greater than 0, and within the range the engine computes in
+/// (`MIN_MAGNITUDE` to `MAX_MAGNITUDE`).
 fn check_radius(generator: &'static str, radius: f64) -> Result<(), SimError> {
-    if radius > 0.0 && radius.is_finite() {
+    let problem = if !(radius > 0.0 && radius.is_finite()) {
+        "must be finite and greater than 0"
+    } else if !(super::MIN_MAGNITUDE..=super::MAX_MAGNITUDE).contains(&radius) {
+        "is outside 2⁻¹⁰⁰ to 2¹⁰⁰ (about 7.9e-31 to 1.3e30), the range the simulation computes \
+         in: choose units that bring the scene within it"
+    } else {
         return Ok(());
-    }
+    };
     refuse(
         generator,
         "radius",
-        format!("radius = {radius:?} must be finite and greater than 0"),
+        format!("radius = {radius:?} {problem}"),
     )
 }
 
