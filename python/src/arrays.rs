@@ -12,6 +12,7 @@ use numpy::{
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::IntoPyDict;
 
 /// The shape an argument must have.
 #[derive(Debug, Clone, Copy)]
@@ -169,17 +170,31 @@ pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> 
         )));
     }
     check_shape(&array, name, Expect::Column)?;
-    let wide = array.call_method1("astype", ("int64",))?;
-    let wide = wide.extract::<PyReadonlyArrayDyn<'_, i64>>()?;
-    wide.as_array()
-        .iter()
-        .enumerate()
-        .map(|(k, &i)| {
-            u32::try_from(i).map_err(|_| {
-                PyValueError::new_err(format!("{name}[{k}]: index {i} is not in 0..=4294967295"))
-            })
-        })
-        .collect()
+    let out_of_range = |k: usize, i: &dyn std::fmt::Display| {
+        PyValueError::new_err(format!("{name}[{k}]: index {i} is not in 0..=4294967295"))
+    };
+    // Unsigned entries read as u64, signed as i64 (no copy when already so): an unsigned
+    // index above 2⁶³ read as i64 would be named as a negative number.
+    let copy = [("copy", false)].into_py_dict(obj.py())?;
+    if dtype.kind() == b'u' {
+        let wide = array.call_method("astype", ("uint64",), Some(&copy))?;
+        let wide = wide.extract::<PyReadonlyArrayDyn<'_, u64>>()?;
+        let entries = wide.as_array();
+        entries
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| u32::try_from(i).map_err(|_| out_of_range(k, &i)))
+            .collect()
+    } else {
+        let wide = array.call_method("astype", ("int64",), Some(&copy))?;
+        let wide = wide.extract::<PyReadonlyArrayDyn<'_, i64>>()?;
+        let entries = wide.as_array();
+        entries
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| u32::try_from(i).map_err(|_| out_of_range(k, &i)))
+            .collect()
+    }
 }
 
 /// Rows of a `(N, 3)` view as arrays.

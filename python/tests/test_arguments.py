@@ -37,6 +37,8 @@ CASES = [
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "s", "spheres", TypeError, "s: expected a Spheres, got str"),
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "i", [0.5], TypeError, "i: dtype float64 is not an integer type"),
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "j", [True], TypeError, "j: dtype bool is not an integer type"),
+    (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "i", np.array([2**63], np.uint64), ValueError, "i[0]: index 9223372036854775808 is not in 0..=4294967295"),
+    (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "j", np.array([-1], np.int8), ValueError, "j[0]: index -1 is not in 0..=4294967295"),
     (lambda **k: ss.pair_times(TWO, [0], [1], **k), "t_max", "x", TypeError, "t_max: expected a real number"),
     (lambda **k: ss.static_times(**{"s": TWO, "shapes": [FLOOR], **k}), "s", 1, TypeError, "s: expected a Spheres, got int"),
     (lambda **k: ss.static_times(**{"s": TWO, "shapes": [FLOOR], **k}), "shapes", 5, TypeError, "shapes: expected a sequence of shapes, got int"),
