@@ -333,7 +333,8 @@ class Simulation:
         state reached is checked against the invariant (InvariantError if broken)."""
     def check_invariant(self) -> Dict[str, float]:
         """``{"time", "pairs", "walls"}``: the deepest overlap of a pair and of a sphere with
-        a shape, minus its tolerance (``<= 0`` within it); InvariantError beyond it."""
+        a shape, over its tolerance (``<= 0`` when nothing overlaps, at most 1 within the
+        tolerance); InvariantError beyond it."""
     def _break_walls_for_testing(self) -> None: ...
     def set_velocities(self, velocities: _ArrayLike) -> None:
         """A new velocity for every sphere, float64 ``(N, 3)``; every event predicted again."""
@@ -394,4 +395,5 @@ class Simulation:
 
 def read_xyz(path: Union[str, "os.PathLike[str]"]) -> List[Dict[str, Any]]:
     """Every frame of an extended XYZ file: time, positions, velocities (N, 3), radii,
-    masses, materials (N,), box (tuple or None)."""
+    masses (1.0 each unless the file has a mass column: trajectories record none),
+    materials (N,), box (tuple or None)."""

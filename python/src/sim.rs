@@ -519,9 +519,10 @@ impl Simulation {
     /// no two spheres overlap, and none is through a static shape or past a container's wall,
     /// beyond the derived tolerance (docs/derivations/simulation.md, "The invariant every run
     /// keeps"). Returns `{"time", "pairs", "walls"}`: the deepest overlap of a pair and of a
-    /// sphere with a shape, each minus its tolerance (`<= 0` when within it; NaN in a world
-    /// where spheres pass through each other). `InvariantError` naming the sphere, the other
-    /// body and the time otherwise.
+    /// sphere with a shape, each divided by its tolerance (`<= 0` when nothing overlaps, at most
+    /// 1 within the tolerance; `-inf` for `walls` without shapes). A world with
+    /// `response="none"` (spheres pass through each other and through shapes) is measured but
+    /// never refused. `InvariantError` naming the sphere, the other body and the time otherwise.
     fn check_invariant<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let mut guard = self.lock(py);
         // `&mut`: the simulation is `Send`, not `Sync`.

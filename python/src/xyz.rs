@@ -20,7 +20,8 @@ use crate::memory;
 /// `trajectory.xyz`), as a list of dicts of arrays: `time` (float), `positions` and
 /// `velocities` float64 `(N, 3)`, `radii`, `masses` float64 `(N,)`, `materials` uint16
 /// `(N,)`, and `box` (the periodic lengths as a tuple, or `None`). Read by the library's
-/// reader: every value has the bits the writer had. `OSError` if the file cannot be read,
+/// reader: every value has the bits the writer had. The files record no masses: `masses` is
+/// read from a `mass:R:1` column when another tool's file has one, else 1.0 each. `OSError` if the file cannot be read,
 /// `ValueError` naming the line for anything malformed.
 #[pyfunction]
 pub fn read_xyz<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyList>> {
