@@ -142,9 +142,21 @@ pub(crate) fn floats<'py, T: Element>(
     let typed = if dtype.is_equiv_to(&target) {
         array.into_any()
     } else {
+        // The copy is refused before NumPy allocates it, as every allocation is.
+        converting::<T>(&array, name, &target.str()?.to_string())?;
         array.call_method1("astype", (target,))?
     };
     typed.extract::<PyReadonlyArrayDyn<'py, T>>()
+}
+
+/// Refuses, as a `MemoryError` under the memory budget (`memory::check`), an array whose copy
+/// as `T` would not fit: checked before NumPy makes it.
+fn converting<T>(array: &Bound<'_, PyUntypedArray>, name: &str, to: &str) -> PyResult<()> {
+    let count: usize = array.shape().iter().product();
+    crate::memory::check(
+        &format!("{name}: its {count} values converted to {to}"),
+        count.saturating_mul(std::mem::size_of::<T>()),
+    )
 }
 
 /// A 3-vector argument (an array or a sequence of three numbers) in `T`.
@@ -176,6 +188,9 @@ pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> 
     // Unsigned entries read as u64, signed as i64 (no copy when already so): an unsigned
     // index above 2⁶³ read as i64 would be named as a negative number.
     let copy = [("copy", false)].into_py_dict(obj.py())?;
+    if dtype.itemsize() != 8 {
+        converting::<u64>(&array, name, "a 64-bit integer")?;
+    }
     if dtype.kind() == b'u' {
         let wide = array.call_method("astype", ("uint64",), Some(&copy))?;
         let wide = wide.extract::<PyReadonlyArrayDyn<'_, u64>>()?;

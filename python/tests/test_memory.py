@@ -94,6 +94,17 @@ def test_spheres_from_a_broadcast_array_too_large():
     """, "Spheres: 200000000 spheres needs about")
 
 
+def test_a_float64_array_too_large_to_convert_is_refused_before_numpy_copies_it():
+    # 4·10^8 spheres given as float64: their float32 copy (4.8 GB for the centres)
+    # is refused by the memory check before NumPy makes it, not by NumPy failing to (or by
+    # the system, with the copy made, on a machine with the room).
+    expect_memory_error("""
+        c = np.broadcast_to(np.float64(1.0), (400_000_000, 3))
+        r = np.broadcast_to(np.float64(0.5), (400_000_000,))
+        report(lambda: ss.Spheres(c, c, r))
+    """, "centres: its 1200000000 values converted to float32 needs about", "refused before allocating")
+
+
 def test_from_columns_too_large():
     expect_memory_error("""
         x = np.broadcast_to(np.float32(1.0), (200_000_000,))
