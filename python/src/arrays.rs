@@ -182,34 +182,37 @@ pub(crate) fn indices(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<u32>> 
         )));
     }
     check_shape(&array, name, Expect::Column)?;
-    let out_of_range = |k: usize, i: &dyn std::fmt::Display| {
-        PyValueError::new_err(format!("{name}[{k}]: index {i} is not in 0..=4294967295"))
-    };
-    // Unsigned entries read as u64, signed as i64 (no copy when already so): an unsigned
-    // index above 2⁶³ read as i64 would be named as a negative number.
-    let copy = [("copy", false)].into_py_dict(obj.py())?;
     if dtype.itemsize() != 8 {
         converting::<u64>(&array, name, "a 64-bit integer")?;
     }
+    // Unsigned entries read as u64, signed as i64 (no copy when already so): an unsigned
+    // index above 2⁶³ read as i64 would be named as a negative number.
     if dtype.kind() == b'u' {
-        let wide = array.call_method("astype", ("uint64",), Some(&copy))?;
-        let wide = wide.extract::<PyReadonlyArrayDyn<'_, u64>>()?;
-        let entries = wide.as_array();
-        entries
-            .iter()
-            .enumerate()
-            .map(|(k, &i)| u32::try_from(i).map_err(|_| out_of_range(k, &i)))
-            .collect()
+        narrowed::<u64>(&array, name, "uint64")
     } else {
-        let wide = array.call_method("astype", ("int64",), Some(&copy))?;
-        let wide = wide.extract::<PyReadonlyArrayDyn<'_, i64>>()?;
-        let entries = wide.as_array();
-        entries
-            .iter()
-            .enumerate()
-            .map(|(k, &i)| u32::try_from(i).map_err(|_| out_of_range(k, &i)))
-            .collect()
+        narrowed::<i64>(&array, name, "int64")
     }
+}
+
+/// The entries of an integer array, read as `T` (`as_type`, copied only if not already so),
+/// each as a `u32` index or the error naming it.
+fn narrowed<T>(array: &Bound<'_, PyUntypedArray>, name: &str, as_type: &str) -> PyResult<Vec<u32>>
+where
+    T: Element + Copy + std::fmt::Display + TryInto<u32>,
+{
+    let copy = [("copy", false)].into_py_dict(array.py())?;
+    let wide = array.call_method("astype", (as_type,), Some(&copy))?;
+    let wide = wide.extract::<PyReadonlyArrayDyn<'_, T>>()?;
+    let entries = wide.as_array();
+    entries
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            i.try_into().map_err(|_| {
+                PyValueError::new_err(format!("{name}[{k}]: index {i} is not in 0..=4294967295"))
+            })
+        })
+        .collect()
 }
 
 /// Rows of a `(N, 3)` view as arrays.
