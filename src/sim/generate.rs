@@ -32,9 +32,8 @@ fn refuse<T>(generator: &'static str, field: &'static str, problem: String) -> R
 fn check_radius(generator: &'static str, radius: f64) -> Result<(), SimError> {
     let problem = if !(radius > 0.0 && radius.is_finite()) {
         "must be finite and greater than 0"
-    } else if !(super::MIN_MAGNITUDE..=super::MAX_MAGNITUDE).contains(&radius) {
-        "is outside 2⁻¹⁰⁰ to 2¹⁰⁰ (about 7.9e-31 to 1.3e30), the range the simulation computes \
-         in: choose units that bring the scene within it"
+    } else if !super::in_range(radius) {
+        super::OUTSIDE_RANGE
     } else {
         return Ok(());
     };

@@ -46,6 +46,7 @@ mod walls;
 
 pub use demo::demo_world;
 pub use invariant::InvariantReport;
+pub(crate) use model::{BEYOND_RANGE, OUTSIDE_RANGE, bounded3, in_range};
 pub use model::{
     Boundary, Effects, MAX_MAGNITUDE, MAX_MATERIALS, MIN_MAGNITUDE, MaterialPair, Response,
     SimError, SphereState, World,

@@ -366,14 +366,23 @@ pub const MIN_MAGNITUDE: f64 = 1.0 / (1u128 << 100) as f64;
 pub const MAX_MAGNITUDE: f64 = (1u128 << 100) as f64;
 
 /// Whether a positive magnitude is within `[MIN_MAGNITUDE, MAX_MAGNITUDE]`.
-fn in_range(x: f64) -> bool {
+pub(crate) fn in_range(x: f64) -> bool {
     (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&x)
 }
 
 /// Whether every component is at most `MAX_MAGNITUDE` in magnitude.
-fn bounded3(v: DVec3) -> bool {
+pub(crate) fn bounded3(v: DVec3) -> bool {
     v.abs().max_element() <= MAX_MAGNITUDE
 }
+
+/// How a radius or mass outside [`in_range`] is refused where its value is quoted (a scene
+/// file's sphere, a generator's radius).
+pub(crate) const OUTSIDE_RANGE: &str = "is outside 2⁻¹⁰⁰ to 2¹⁰⁰ (about 7.9e-31 to 1.3e30), the \
+     range the simulation computes in: choose units that bring the scene within it";
+
+/// How a coordinate or velocity beyond [`bounded3`] is refused where its value is quoted.
+pub(crate) const BEYOND_RANGE: &str = "is beyond 2¹⁰⁰ (about 1.3e30), the largest the \
+     simulation computes with: choose units that bring the scene within it";
 
 /// The most materials a world may have: the engine keeps a response for every ordered pair of
 /// materials (16 MiB at this count), so a larger table is refused rather than allocated.

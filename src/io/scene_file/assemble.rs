@@ -9,7 +9,8 @@ use super::schema::{ContainerTable, CylinderTable, MaterialTable, Origin, PlaneT
 use super::{BoundaryKind, RunSettings, SceneFile, SceneFileError, SphereTable};
 use crate::Statics;
 use crate::sim::{
-    Boundary, Effects, MAX_MAGNITUDE, MIN_MAGNITUDE, MaterialPair, Response, SphereState, World,
+    BEYOND_RANGE, Boundary, Effects, MaterialPair, OUTSIDE_RANGE, Response, SphereState, World,
+    bounded3, in_range,
 };
 use crate::{Container, Cylinder, Plane};
 
@@ -286,26 +287,18 @@ impl SceneFile {
                 format!("= {:?} must be finite and greater than 0", s.mass),
             );
         }
-        // The range the engine computes in (`sim::MAX_MAGNITUDE`), said with the value.
-        let beyond = |v: DVec3| v.abs().max_element() > MAX_MAGNITUDE;
-        let outside = |x: f64| !(MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&x);
-        let (largest, range) = (
-            "beyond 2¹⁰⁰ (about 1.3e30), the largest the simulation computes with: choose units \
-             that bring the scene within it",
-            "outside 2⁻¹⁰⁰ to 2¹⁰⁰ (about 7.9e-31 to 1.3e30), the range the simulation computes \
-             in: choose units that bring the scene within it",
-        );
-        if beyond(centre) {
-            return bad("centre", format!("= {} is {largest}", show(centre)));
+        // The range the engine computes in (`World::validate`'s test), said with the value.
+        if !bounded3(centre) {
+            return bad("centre", format!("= {} {BEYOND_RANGE}", show(centre)));
         }
-        if beyond(velocity) {
-            return bad("velocity", format!("= {} is {largest}", show(velocity)));
+        if !bounded3(velocity) {
+            return bad("velocity", format!("= {} {BEYOND_RANGE}", show(velocity)));
         }
-        if outside(s.radius) {
-            return bad("radius", format!("= {:?} is {range}", s.radius));
+        if !in_range(s.radius) {
+            return bad("radius", format!("= {:?} {OUTSIDE_RANGE}", s.radius));
         }
-        if outside(s.mass) {
-            return bad("mass", format!("= {:?} is {range}", s.mass));
+        if !in_range(s.mass) {
+            return bad("mass", format!("= {:?} {OUTSIDE_RANGE}", s.mass));
         }
         Ok(SphereState {
             centre,
