@@ -166,8 +166,8 @@ fn scene_record(args: &Args) -> Result<Record, Box<dyn Error>> {
         )
         .into());
     }
-    let world = scene_world(&args.input)?;
-    if let Some(why) = refusal(&args.input, &world) {
+    let (scene, world) = scene_and_world(&args.input)?;
+    if let Some(why) = refusal(&scene, &world) {
         // Drawn all the same: the picture is how one sees what is wrong.
         eprintln!(
             "warning: {}: drawn, but `run` refuses this scene: {why}",
@@ -190,21 +190,19 @@ fn scene_record(args: &Args) -> Result<Record, Box<dyn Error>> {
     })
 }
 
-/// Why `run` would refuse the scene at `path` (spheres overlapping, or through a shape, at the
+/// Why `run` would refuse `scene`'s `world` (spheres overlapping, or through a shape, at the
 /// start), located in the file; `None` if it would run it.
-fn refusal(path: &Path, world: &spheresweep::sim::World) -> Option<String> {
+fn refusal(scene: &SceneFile, world: &spheresweep::sim::World) -> Option<String> {
     let err = spheresweep::sim::Simulation::new(world.clone()).err()?;
-    Some(match SceneFile::from_path(path) {
-        Ok(scene) => scene.locate(err).to_string(),
-        Err(_) => err.to_string(),
-    })
+    Some(scene.locate(err).to_string())
 }
 
-/// The world of a scene file, refused up front if too large for memory.
-fn scene_world(path: &Path) -> Result<spheresweep::sim::World, Box<dyn Error>> {
+/// A scene file and its world, refused up front if too large for memory.
+fn scene_and_world(path: &Path) -> Result<(SceneFile, spheresweep::sim::World), Box<dyn Error>> {
     let scene = SceneFile::from_path(path)?;
     crate::memory::check_scene(path, &scene, size_of::<SphereState>())?;
-    Ok(scene.build()?.0)
+    let world = scene.build()?.0;
+    Ok((scene, world))
 }
 
 /// Recorded snapshots, with the shapes and material names of `--scene`, or else of the scene
@@ -228,7 +226,7 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
     };
     let (world, scene_path, note) = match &args.scene {
         Some(path) => {
-            let world = scene_world(path)?;
+            let (_, world) = scene_and_world(path)?;
             let (theirs, ours) = (world.spheres.len(), frames[0].spheres.len());
             if theirs != ours {
                 // Shapes drawn over spheres of another run may be what the user wants (a
