@@ -7,9 +7,24 @@ pub fn num(x: f64) -> String {
     spheresweep::error::Num(x).to_string()
 }
 
+/// `n` and the noun, singular for one: `1 frame`, `3 frames`.
+pub fn counted(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 #[cfg(test)]
 mod tests {
-    use super::num;
+    use super::{counted, num};
+
+    #[test]
+    fn one_is_singular_and_every_other_count_plural() {
+        assert_eq!(counted(1, "frame", "frames"), "1 frame");
+        assert_eq!(counted(0, "frame", "frames"), "0 frames");
+        assert_eq!(
+            counted(2, "wall collision", "wall collisions"),
+            "2 wall collisions"
+        );
+    }
 
     #[test]
     fn plain_inside_the_range_exponent_form_outside() {

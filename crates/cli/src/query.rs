@@ -33,6 +33,7 @@ use std::time::{Duration, Instant};
 
 use spheresweep::{Accuracy, QueryOptions};
 
+use crate::number::counted;
 use compute::Shapes;
 use layout::{Chunk, Layout, OutColumn, Results};
 
@@ -367,11 +368,14 @@ fn peak_memory_mib() -> Option<f64> {
 
 fn shapes_text(s: &Shapes) -> String {
     let n = s.len();
-    let shapes = if n == 1 { "shape" } else { "shapes" };
     let each: Vec<String> = (s.counts().into_iter())
-        .map(|(kind, k)| format!("{k} {kind}{}", if k == 1 { "" } else { "s" }))
+        .map(|(kind, k)| counted(k as u64, &kind.to_string(), &format!("{kind}s")))
         .collect();
-    format!("{n} {shapes} ({})", each.join(", "))
+    format!(
+        "{} ({})",
+        counted(n as u64, "shape", "shapes"),
+        each.join(", ")
+    )
 }
 
 /// Bytes one row of a chunk holds at most, from the types that hold it: its input columns

@@ -21,6 +21,7 @@ use spheresweep::io::scene_file::SceneFile;
 use spheresweep::io::xyz::{self, Frame};
 use spheresweep::sim::SphereState;
 
+use crate::number::counted;
 use crate::picture::{
     self, Canvas, Content, Format, Key, MATERIAL_COLOURS, Paint, Panel, Rgb, Shapes, Size, View,
 };
@@ -213,10 +214,9 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
     let chosen = match args.frame {
         Some(k) if k >= frames.len() => {
             return Err(format!(
-                "--frame {k}: {} has {} frame{} (0 to {})",
+                "--frame {k}: {} has {} (0 to {})",
                 args.input.display(),
-                frames.len(),
-                if frames.len() == 1 { "" } else { "s" },
+                counted(frames.len() as u64, "frame", "frames"),
                 frames.len() - 1
             )
             .into());
@@ -232,10 +232,10 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
                 // Shapes drawn over spheres of another run may be what the user wants (a
                 // scene's walls over data from elsewhere), so a warning, not a refusal.
                 eprintln!(
-                    "warning: --scene {} has {theirs} sphere{}, the snapshots {ours}: its shapes \
-                     and materials may not be those the snapshots were recorded with",
+                    "warning: --scene {} has {}, the snapshots {ours}: its shapes and \
+                     materials may not be those the snapshots were recorded with",
                     path.display(),
-                    if theirs == 1 { "" } else { "s" },
+                    counted(theirs as u64, "sphere", "spheres"),
                 );
             }
             (Some(world), Some(path.clone()), None)

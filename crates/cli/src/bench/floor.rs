@@ -6,6 +6,7 @@
 use spheresweep_bench::floor::{self, ARRAY_BYTES};
 
 use super::Line;
+use crate::number::counted;
 
 /// One line per thread count: the floor's low end as the time, the range and the rates noted,
 /// and how many times the low end the whole query measured earlier in the run took at N = 10⁶.
@@ -34,7 +35,7 @@ pub fn lines(lines: &mut Vec<Line>) {
         };
         lines.push(Line {
             group: "memory floor of the whole query (minimum bytes per sphere at this machine's streaming bandwidth, 800 MB arrays)".into(),
-            name: format!("floor, {threads} thread{}", if threads == 1 { "" } else { "s" }),
+            name: format!("floor, {}", counted(threads as u64, "thread", "threads")),
             n: 1,
             ns: f.low_ns,
             peer_ns: None,

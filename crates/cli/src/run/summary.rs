@@ -13,6 +13,7 @@ use spheresweep::sim::{Boundary, Response, World, observables};
 
 use super::outputs::{self, Manifest};
 use super::simulate::Run;
+use crate::number::counted;
 
 /// What the summary says of the scene, taken from its world before the simulation is built.
 pub struct About {
@@ -83,11 +84,6 @@ fn relative(change: f64, scale: f64) -> f64 {
 /// serialise as `-0`).
 fn unsigned_zero(x: f64) -> f64 {
     if x == 0.0 { 0.0 } else { x }
-}
-
-/// `n` and the noun, singular for one: `1 frame`, `3 frames`.
-fn counted(n: u64, one: &str, many: &str) -> String {
-    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// `summary.json`, the figures of a completed run (docs/run-summary.md documents each field).
