@@ -46,11 +46,13 @@ mod walls;
 
 pub use demo::demo_world;
 pub use invariant::InvariantReport;
-pub(crate) use model::{BEYOND_RANGE, OUTSIDE_RANGE, bounded3, in_range};
+#[cfg(feature = "scene-file")]
+pub(crate) use model::{BEYOND_RANGE, bounded3};
 pub use model::{
     Boundary, Effects, MAX_MAGNITUDE, MAX_MATERIALS, MIN_MAGNITUDE, MaterialPair, Response,
     SimError, SphereState, World,
 };
+pub(crate) use model::{OUTSIDE_RANGE, in_range};
 pub use records::{EventGeometry, EventRecord};
 pub use stats::{KernelCounts, Stats};
 

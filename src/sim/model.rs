@@ -380,7 +380,9 @@ pub(crate) fn bounded3(v: DVec3) -> bool {
 pub(crate) const OUTSIDE_RANGE: &str = "is outside 2⁻¹⁰⁰ to 2¹⁰⁰ (about 7.9e-31 to 1.3e30), the \
      range the simulation computes in: choose units that bring the scene within it";
 
-/// How a coordinate or velocity beyond [`bounded3`] is refused where its value is quoted.
+/// How a coordinate or velocity beyond [`bounded3`] is refused where its value is quoted (a
+/// scene file's sphere).
+#[cfg(feature = "scene-file")]
 pub(crate) const BEYOND_RANGE: &str = "is beyond 2¹⁰⁰ (about 1.3e30), the largest the \
      simulation computes with: choose units that bring the scene within it";
 
