@@ -6,7 +6,7 @@
 //! tuples, scalars and pandas columns go through `numpy.asarray(x)`: Python ints and floats
 //! are read as numbers, strings and booleans keep their dtype and are refused.
 
-use numpy::ndarray::ArrayViewD;
+use numpy::ndarray::{ArrayViewD, Dimension};
 use numpy::{
     Element, PyArrayDescrMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -144,9 +144,37 @@ pub(crate) fn floats<'py, T: Element>(
     } else {
         // The copy is refused before NumPy allocates it, as every allocation is.
         converting::<T>(&array, name, &target.str()?.to_string())?;
+        if target.kind() == b'f' && target.itemsize() == 4 {
+            beyond_float32(&array, name)?;
+        }
         array.call_method1("astype", (target,))?
     };
     typed.extract::<PyReadonlyArrayDyn<'py, T>>()
+}
+
+/// Refuses a float64 entry that is finite but beyond `float32`'s range (about ±3.4·10³⁸),
+/// which the conversion would make infinite, named by its position: the queries compute in
+/// `float32`, and "NaN or infinite" would name a value the caller never gave. Other dtypes
+/// convert within range (integers) or are left to the conversion (NumPy's `longdouble`).
+fn beyond_float32(array: &Bound<'_, PyUntypedArray>, name: &str) -> PyResult<()> {
+    let Ok(wide) = array.extract::<PyReadonlyArrayDyn<'_, f64>>() else {
+        return Ok(());
+    };
+    let view = wide.as_array();
+    let far = view
+        .indexed_iter()
+        .find(|&(_, &x)| x.is_finite() && (x as f32).is_infinite());
+    match far {
+        None => Ok(()),
+        Some((at, &x)) => {
+            let at: Vec<String> = at.slice().iter().map(usize::to_string).collect();
+            Err(PyValueError::new_err(format!(
+                "{name}[{}]: {x:e} is beyond float32's range (about ±3.4e38), which the \
+                 queries compute in: choose units that bring it within",
+                at.join(", ")
+            )))
+        }
+    }
 }
 
 /// Refuses, as a `MemoryError` under the memory budget (`memory::check`), an array whose copy

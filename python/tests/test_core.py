@@ -268,13 +268,23 @@ ONE = dict(centres=[[0, 0, 0]], velocities=[[0, 0, 0]], radii=[1.0])
         (dict(ONE, centres=[[0, np.nan, 0]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
         (dict(ONE, velocities=[[np.inf, 0, 0]]), ValueError, "sphere 0: sphere velocity is NaN or infinite"),
         (dict(ONE, masses=[0.0]), ValueError, "sphere 0: sphere mass must be greater than zero"),
-        (dict(ONE, centres=[[0, 0, 1e300]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
+        (dict(ONE, centres=[[0, 0, 1e300]]), ValueError, r"centres\[0, 2\]: 1e300 is beyond float32's range"),
+        (dict(ONE, radii=[2.0, 1e200][1:]), ValueError, r"radii\[0\]: 1e200 is beyond float32's range"),
+        (dict(ONE, velocities=np.array([[0, -4e38, 0]])), ValueError, r"velocities\[0, 1\]: -4e38 is beyond"),
+        (dict(ONE, centres=[[0, 0, np.inf]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
     ],
 )
 @pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
 def test_bad_spheres(kwargs, err, pattern):
     with pytest.raises(err, match=pattern):
         ss.Spheres(**kwargs)
+
+
+def test_a_float64_that_rounds_to_the_largest_float32_is_taken():
+    # Beyond float32's largest value by less than half its last step: rounds to it, finite.
+    largest = float(np.finfo(np.float32).max)
+    s = ss.Spheres(centres=[[0, 0, 3.4028235e38]], velocities=[[0, 0, 0]], radii=[1.0])
+    assert len(s) == 1 and 3.4028235e38 > largest
 
 
 def test_bad_sphere_is_named_by_index():
