@@ -32,12 +32,13 @@ pub fn draw_panel(canvas: &mut Canvas, panel: &Panel, content: &Content) {
     }
     plane_sections(canvas, &scope, shapes);
     cover_outside_containers(canvas, &scope, shapes);
-    spheres_far_to_near(canvas, &scope, content, panel.slab, bands);
+    let dots = spheres_far_to_near(canvas, &scope, content, panel.slab, bands);
     container_outlines(canvas, &scope, shapes);
     box_outlines(canvas, &scope, shapes);
     trajectories(canvas, &scope, content);
     scale_bar(canvas, &scope, fs);
     axis_names(canvas, &scope, fs);
+    small_spheres_note(canvas, &scope, fs, dots);
     canvas.clip_to(None);
 }
 
@@ -277,8 +278,9 @@ fn spheres_far_to_near(
     content: &Content,
     slab: Option<(f64, f64)>,
     bands: Vec<Band>,
-) {
+) -> usize {
     let view = scope.view;
+    let mut dots = 0;
     let mut order: Vec<usize> = (0..content.spheres.len())
         .filter(|&i| {
             let s = &content.spheres[i];
@@ -301,9 +303,35 @@ fn spheres_far_to_near(
         let fill = (content.fill)(i, s);
         let r = s.radius * scope.map.scale;
         let stroke = (r >= 2.5).then(|| (fill.rgb.shade(0.6).alpha(fill.alpha), 0.8));
-        canvas.disk(scope.px(s.centre), r, Some(fill), stroke);
+        dots += usize::from(r < MIN_DOT);
+        canvas.disk(scope.px(s.centre), r.max(MIN_DOT), Some(fill), stroke);
     }
     bands.for_each(|b| b.draw(canvas));
+    dots
+}
+
+/// The least radius a sphere is drawn at, in pixels: a smaller one (a sphere far from the
+/// rest widens the view until the others are specks) would vanish, and the picture would look
+/// empty; such spheres are counted in a note in the panel's corner (`small_spheres_note`).
+pub(super) const MIN_DOT: f64 = 1.5;
+
+/// How many spheres were drawn larger than they are, in the panel's top right corner.
+fn small_spheres_note(canvas: &mut Canvas, scope: &Scope, fs: f64, dots: usize) {
+    if dots == 0 {
+        return;
+    }
+    let inner = scope.inner;
+    let spheres = if dots == 1 { "sphere" } else { "spheres" };
+    canvas.text(
+        (inner.x + inner.w - fs * 0.5, inner.y + fs * 1.2),
+        format!(
+            "{dots} {spheres} under {:.0} px drawn as dots",
+            2.0 * MIN_DOT
+        ),
+        fs * 0.7,
+        INK,
+        Anchor::End,
+    );
 }
 
 /// The containers' walls, over the spheres.
@@ -495,6 +523,57 @@ mod tests {
             at(0.0, 3.0),
             [255, 0, 0],
             "the sphere in front is drawn over it"
+        );
+    }
+
+    /// A sphere far smaller than a pixel (a far-flung sphere widens the view until the others
+    /// are specks) is still drawn, as a dot of the least radius, and counted for the note: the
+    /// picture of such a scene was blank.
+    #[test]
+    fn a_sphere_smaller_than_a_pixel_is_drawn_as_a_dot() {
+        let speck = SphereState {
+            centre: DVec3::ZERO,
+            velocity: DVec3::ZERO,
+            radius: 1e-6,
+            mass: 1.0,
+            material: 0,
+        };
+        let spheres = [speck];
+        let shapes = Shapes::default();
+        let red = Rgb::hex(0xff0000);
+        let fill = move |_: usize, _: &SphereState| Paint::from(red);
+        let content = Content {
+            spheres: &spheres,
+            fill: &fill,
+            shapes: &shapes,
+            paths: &[],
+            bounds: (DVec3::splat(-5.0), DVec3::splat(5.0)),
+        };
+        let rect = Rect {
+            x: 0.0,
+            y: 0.0,
+            w: 202.0,
+            h: 202.0,
+        };
+        let mut canvas = Canvas::new(202, 202, PANEL);
+        let panel = Panel {
+            rect,
+            view: View::Side,
+            title: String::new(),
+            slab: None,
+        };
+        let fs = text_size(canvas.width);
+        let inner = frame(&mut canvas, &panel, fs);
+        let scope = Scope::new(inner, &panel, content.bounds);
+        let dots = spheres_far_to_near(&mut canvas, &scope, &content, None, Vec::new());
+        assert_eq!(dots, 1);
+        let (x, y) = scope.px(DVec3::ZERO);
+        let raster = canvas.raster();
+        let k = 3 * (y as usize * 202 + x as usize);
+        assert_eq!(
+            raster[k..k + 3],
+            [255, 0, 0],
+            "the speck's dot at ({x}, {y})"
         );
     }
 
