@@ -445,20 +445,46 @@ mod tests {
     use super::super::canvas::Paint;
     use super::*;
 
+    /// A sphere at `(x, y, z)` of radius `radius`.
+    fn ball(x: f64, y: f64, z: f64, radius: f64) -> SphereState {
+        SphereState {
+            centre: DVec3::new(x, y, z),
+            velocity: DVec3::ZERO,
+            radius,
+            mass: 1.0,
+            material: 0,
+        }
+    }
+
+    /// Every sphere red.
+    fn red(_: usize, _: &SphereState) -> Paint {
+        Paint::from(Rgb::hex(0xff0000))
+    }
+
+    /// A side view panel of 202 by 202 pixels and its canvas.
+    fn side_panel() -> (Canvas, Panel) {
+        let rect = Rect {
+            x: 0.0,
+            y: 0.0,
+            w: 202.0,
+            h: 202.0,
+        };
+        let panel = Panel {
+            rect,
+            view: View::Side,
+            title: String::new(),
+            slab: None,
+        };
+        (Canvas::new(202, 202, PANEL), panel)
+    }
+
     /// In the side view a pillar dims the sphere behind it and not the one in front (the
     /// pillar used to be drawn under every sphere, then hid those behind it whole).
     #[test]
     fn a_pillar_is_drawn_in_depth_order_with_the_spheres() {
-        let ball = |x: f64, y: f64, z: f64| SphereState {
-            centre: DVec3::new(x, y, z),
-            velocity: DVec3::ZERO,
-            radius: 0.5,
-            mass: 1.0,
-            material: 0,
-        };
         // The pillar along z at y = -4 (nearer than y = 0 seen along +y); a sphere behind it
         // at y = 0 and one in front at y = -6, both over its band in the picture.
-        let spheres = [ball(0.0, 0.0, -2.0), ball(0.0, -6.0, 3.0)];
+        let spheres = [ball(0.0, 0.0, -2.0, 0.5), ball(0.0, -6.0, 3.0, 0.5)];
         let shapes = Shapes {
             statics: spheresweep::Statics::new().with(
                 Cylinder::new([0.0, -4.0, 0.0], [0.0, -4.0, 1.0], 1.0).unwrap(),
@@ -466,27 +492,14 @@ mod tests {
             ),
             ..Shapes::default()
         };
-        let red = Rgb::hex(0xff0000);
-        let fill = move |_: usize, _: &SphereState| Paint::from(red);
         let content = Content {
             spheres: &spheres,
-            fill: &fill,
+            fill: &red,
             shapes: &shapes,
             paths: &[],
             bounds: (DVec3::new(-5.0, -8.0, -5.0), DVec3::new(5.0, 8.0, 5.0)),
         };
-        let panel = Panel {
-            rect: Rect {
-                x: 0.0,
-                y: 0.0,
-                w: 202.0,
-                h: 202.0,
-            },
-            view: View::Side,
-            title: String::new(),
-            slab: None,
-        };
-        let mut canvas = Canvas::new(202, 202, PANEL);
+        let (mut canvas, panel) = side_panel();
         draw_panel(&mut canvas, &panel, &content);
         let raster = canvas.raster();
         // 20 pixels a unit, the scene's (x, z) = (0, 0) at pixel (101, 101).
@@ -531,37 +544,16 @@ mod tests {
     /// picture of such a scene was blank.
     #[test]
     fn a_sphere_smaller_than_a_pixel_is_drawn_as_a_dot() {
-        let speck = SphereState {
-            centre: DVec3::ZERO,
-            velocity: DVec3::ZERO,
-            radius: 1e-6,
-            mass: 1.0,
-            material: 0,
-        };
-        let spheres = [speck];
+        let spheres = [ball(0.0, 0.0, 0.0, 1e-6)];
         let shapes = Shapes::default();
-        let red = Rgb::hex(0xff0000);
-        let fill = move |_: usize, _: &SphereState| Paint::from(red);
         let content = Content {
             spheres: &spheres,
-            fill: &fill,
+            fill: &red,
             shapes: &shapes,
             paths: &[],
             bounds: (DVec3::splat(-5.0), DVec3::splat(5.0)),
         };
-        let rect = Rect {
-            x: 0.0,
-            y: 0.0,
-            w: 202.0,
-            h: 202.0,
-        };
-        let mut canvas = Canvas::new(202, 202, PANEL);
-        let panel = Panel {
-            rect,
-            view: View::Side,
-            title: String::new(),
-            slab: None,
-        };
+        let (mut canvas, panel) = side_panel();
         let fs = text_size(canvas.width);
         let inner = frame(&mut canvas, &panel, fs);
         let scope = Scope::new(inner, &panel, content.bounds);
