@@ -163,8 +163,15 @@ def _part_name(i: int) -> str:
 
 
 def _float_columns(frame, columns: Sequence[str]) -> list:
-    """The named columns of a pandas frame as float32 arrays (float64 rounded to nearest)."""
-    return [np.ascontiguousarray(frame[c].to_numpy(dtype=np.float32)) for c in columns]
+    """The named columns of a pandas frame as float32 arrays if they are float32, else float64
+    (float16 and float64 are exact in it): the native side rounds float64 to float32
+    (to nearest, as NumPy's ``astype``) and names a finite value beyond float32's range by its
+    row, where a conversion here would make it ``inf``."""
+    def column(c):
+        wide = frame[c].dtype != np.float32
+        return np.ascontiguousarray(frame[c].to_numpy(dtype=np.float64 if wide else np.float32))
+
+    return [column(c) for c in columns]
 
 
 def _answer_and_write(frame, apply, args, source, directory, partition_info=None):

@@ -132,6 +132,16 @@ def test_sharded_pairs_errors_name_the_problem(client, tmp_path):
         sd.zip_times_parquet(tmp_path / "bad", tmp_path / "out", client=client)
     assert not os.path.exists(tmp_path / "out")
 
+    # A finite float64 beyond float32's range is named by its column and row, not as "NaN or
+    # infinite" after a conversion made it inf.
+    far = dict(cols)
+    far["bx"] = far["bx"].copy()
+    far["bx"][9] = 1e300
+    write_dataset(tmp_path / "far", pa.table(far), 1, 100)
+    with pytest.raises(ValueError, match=r"partition 0.*sphere B.*x\[9\]: 1e300 is beyond float32"):
+        sd.zip_times_parquet(tmp_path / "far", tmp_path / "out", client=client)
+    assert not os.path.exists(tmp_path / "out")
+
     (tmp_path / "taken").mkdir()
     (tmp_path / "taken" / "notes.txt").write_text("mine")
     good = tmp_path / "good"
