@@ -11,6 +11,7 @@ use super::{
     Content, FLOOR, FRAME, INK, PANEL, PERIODIC, PILLAR, Panel, REGION, Shapes, VESSEL, View,
     text_size,
 };
+use crate::number::counted;
 
 /// The fill inside a container, and of the ground behind a plane.
 const VESSEL_INSIDE: Rgb = Rgb::hex(0xeef2f6);
@@ -321,11 +322,11 @@ fn small_spheres_note(canvas: &mut Canvas, scope: &Scope, fs: f64, dots: usize) 
         return;
     }
     let inner = scope.inner;
-    let spheres = if dots == 1 { "sphere" } else { "spheres" };
     canvas.text(
         (inner.x + inner.w - fs * 0.5, inner.y + fs * 1.2),
         format!(
-            "{dots} {spheres} under {:.0} px drawn as dots",
+            "{} under {:.0} px drawn as dots",
+            counted(dots as u64, "sphere", "spheres"),
             2.0 * MIN_DOT
         ),
         fs * 0.7,
