@@ -49,8 +49,8 @@ pub use invariant::InvariantReport;
 #[cfg(feature = "scene-file")]
 pub(crate) use model::{BEYOND_RANGE, bounded3};
 pub use model::{
-    Boundary, Effects, MAX_MAGNITUDE, MAX_MATERIALS, MIN_MAGNITUDE, MaterialPair, Response,
-    SimError, SphereState, World,
+    Boundary, Effects, MAX_MAGNITUDE, MAX_MATERIALS, MIN_MAGNITUDE, MaterialPair, OutOfRange,
+    Response, SimError, SphereState, World,
 };
 pub(crate) use model::{OUTSIDE_RANGE, in_range};
 pub use records::{EventGeometry, EventRecord};

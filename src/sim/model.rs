@@ -151,6 +151,27 @@ pub struct World {
     pub effects: Effects,
 }
 
+/// What lies outside the range the simulation computes in ([`SimError::Range`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum OutOfRange {
+    /// A coordinate of the open box's corners.
+    #[error("open box")]
+    OpenBox,
+    /// A length of the periodic box.
+    #[error("periodic box")]
+    PeriodicBox,
+    /// The fastest sphere's speed (too slow, but moving).
+    #[error("the fastest sphere")]
+    FastestSphere,
+}
+
+impl OutOfRange {
+    /// Whether the boundary (the scene file's `[boundary]`) is at fault.
+    pub fn is_boundary(self) -> bool {
+        matches!(self, Self::OpenBox | Self::PeriodicBox)
+    }
+}
+
 /// Why a simulation could not be built or advanced.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -243,8 +264,8 @@ pub enum SimError {
          units that bring the scene within it"
     )]
     Range {
-        /// `"periodic box"`, `"open box"` or `"the fastest sphere"`.
-        what: &'static str,
+        /// What lies outside the range.
+        what: OutOfRange,
     },
     /// A generator's parameter is out of range (`sim::generate`), or it could not place its
     /// spheres.
@@ -500,9 +521,9 @@ impl World {
     /// checked with their other fields).
     fn validate_magnitudes(&self) -> Result<(), SimError> {
         let (what, ok) = match self.boundary {
-            Boundary::Open => ("", true),
-            Boundary::OpenBox { lo, hi } => ("open box", bounded3(lo) && bounded3(hi)),
-            Boundary::Periodic { size } => ("periodic box", bounded3(size)),
+            Boundary::Open => (OutOfRange::OpenBox, true),
+            Boundary::OpenBox { lo, hi } => (OutOfRange::OpenBox, bounded3(lo) && bounded3(hi)),
+            Boundary::Periodic { size } => (OutOfRange::PeriodicBox, bounded3(size)),
         };
         if !ok {
             return Err(SimError::Range { what });
@@ -513,7 +534,7 @@ impl World {
         let fastest = fastest.fold(0.0, f64::max);
         if fastest > 0.0 && fastest < MIN_MAGNITUDE {
             return Err(SimError::Range {
-                what: "the fastest sphere",
+                what: OutOfRange::FastestSphere,
             });
         }
         Ok(())

@@ -180,9 +180,9 @@ impl SceneFile {
                 let item = format!("{shape} {index}");
                 self.sim_error(item, &[Key(shape.name()), At(*index)], err)
             }
-            SimError::Range {
-                what: "periodic box" | "open box",
-            } => self.sim_error("boundary", &[Key("boundary")], err),
+            SimError::Range { what } if what.is_boundary() => {
+                self.sim_error("boundary", &[Key("boundary")], err)
+            }
             _ => self.sim_error("scene", &[], err),
         }
     }

@@ -295,6 +295,17 @@ fn fields_that_do_not_fit_their_item_are_named() {
     }
 }
 
+/// A boundary beyond the engine's range is refused at the `[boundary]` table's line, naming
+/// the kind of box (the engine's `SimError::Range`, located by what it names).
+#[test]
+fn a_boundary_beyond_the_range_is_refused_at_its_table() {
+    let huge = FULL.replace("hi = [30.0, 30.0, 40.0]", "hi = [30.0, 30.0, 1e31]");
+    let err = toml_error(&huge);
+    let line = FULL.lines().position(|l| l == "[boundary]").unwrap() + 1;
+    let want = format!("line {line}: boundary: open box: outside the range");
+    assert!(err.starts_with(&want), "want {want:?} at the start of {err}");
+}
+
 #[test]
 fn overlapping_spheres_are_named_by_their_entries() {
     let text = "[run]\nt_end = 1\n\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 1\n\n[[generate]]\nkind = \"lattice\"\nlo = [1, 0, 0]\ncounts = [2, 1, 1]\nspacing = 3\nradius = 0.5\n";
