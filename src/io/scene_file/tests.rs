@@ -303,7 +303,10 @@ fn a_boundary_beyond_the_range_is_refused_at_its_table() {
     let err = toml_error(&huge);
     let line = FULL.lines().position(|l| l == "[boundary]").unwrap() + 1;
     let want = format!("line {line}: boundary: open box: outside the range");
-    assert!(err.starts_with(&want), "want {want:?} at the start of {err}");
+    assert!(
+        err.starts_with(&want),
+        "want {want:?} at the start of {err}"
+    );
 }
 
 #[test]
