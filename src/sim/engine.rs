@@ -31,6 +31,7 @@ use crate::statics::Statics;
 mod ahead;
 #[cfg(test)]
 mod brute_check;
+mod dispersal;
 mod list_rebuild;
 mod lists;
 mod pair_prediction;
@@ -190,6 +191,8 @@ pub(crate) struct Engine<
     /// each axis (`+1` leaving through the upper face), so that its unwrapped position is its
     /// position plus `images · len`.
     pub images: Vec<[i64; 3]>,
+    /// Whether an open scene's spheres have flown apart for good (`dispersal.rs`).
+    dispersal: dispersal::Dispersal,
 }
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
@@ -291,6 +294,7 @@ impl<
             } else {
                 Vec::new()
             },
+            dispersal: dispersal::Dispersal::new(n),
             m,
         };
         for i in 0..n as u32 {
@@ -397,6 +401,9 @@ impl<
                 }
             }
         }
+        if !PERIODIC {
+            self.check_flight(t_end)?;
+        }
         self.now = self.now.max(t_end);
         Ok(true)
     }
@@ -406,8 +413,12 @@ impl<
     fn step(&mut self, i: u32) {
         let b = self.best[i as usize];
         match b.next_event() {
-            NextEvent::Shell => self.leave_shell(i),
+            NextEvent::Shell => {
+                self.leave_shell(i);
+                self.note_quiet(true);
+            }
             NextEvent::Pair => {
+                self.note_quiet(false);
                 let c = b.pairs[0];
                 if self.m.counter[c.j as usize] == c.counter {
                     self.collide_pair(i, c.j);
@@ -421,7 +432,10 @@ impl<
                     self.schedule(i);
                 }
             }
-            NextEvent::Wall => self.collide_wall(i, b.wall()),
+            NextEvent::Wall => {
+                self.note_quiet(false);
+                self.collide_wall(i, b.wall());
+            }
         }
     }
 
@@ -833,6 +847,7 @@ impl<
             .map_err(|(k, why)| {
                 SimError::State(format!("velocities: sphere {}: {why}", id_of[k as usize]))
             })?;
+        self.wake();
         for k in 0..n {
             let new = v[self.id_of[k] as usize];
             self.m.set_velocity(k as u32, new, self.now);

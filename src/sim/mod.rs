@@ -329,6 +329,30 @@ impl Simulation {
         self.engine.run_until(t, keep_going)
     }
 
+    /// When an open scene's spheres were found to have flown apart for good (no pair will
+    /// ever meet, no sphere moves towards a static shape), if they have: the simulation has
+    /// nothing left to do, and advancing it costs nothing.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// # use spheresweep::sim::{Simulation, SphereState, World};
+    /// let lone = SphereState {
+    ///     centre: DVec3::ZERO,
+    ///     velocity: DVec3::X,
+    ///     radius: 0.5,
+    ///     mass: 1.0,
+    ///     material: 0,
+    /// };
+    /// let mut sim = Simulation::new(World { spheres: vec![lone], ..World::default() })?;
+    /// sim.advance_to(1e12)?; // a few dozen shell events, then none
+    /// assert!(sim.flown_apart().is_some_and(|t| t < 1e3));
+    /// assert_eq!(sim.spheres()[0].centre.x, 1e12);
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn flown_apart(&self) -> Option<f64> {
+        self.engine.flown_apart()
+    }
+
     /// The current time.
     ///
     /// ```

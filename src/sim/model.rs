@@ -360,6 +360,21 @@ pub enum SimError {
         /// How many events at that time.
         events: u64,
     },
+    /// An open scene's spheres have flown apart for good (no sphere meets anything after
+    /// `since`), and advancing to `time` would carry one beyond [`MAX_MAGNITUDE`].
+    #[error(
+        "sphere {sphere} would be beyond 2¹⁰⁰ (about 1.3e30) from the origin at t = {}, outside the range the simulation computes in: the spheres have flown apart (nothing meets anything after t = {}), so end the run sooner",
+        crate::error::Num(*time),
+        crate::error::Num(*since)
+    )]
+    Flown {
+        /// The sphere (the first found).
+        sphere: usize,
+        /// The time asked for.
+        time: f64,
+        /// When the engine found that nothing meets anything any more.
+        since: f64,
+    },
 }
 
 /// How a breach of the invariant reads: "overlapping sphere 3", "past the wall of container 0".

@@ -19,6 +19,8 @@ pub(super) trait Run: Send {
     ) -> Result<bool, SimError>;
     fn now(&self) -> f64;
     fn stats(&self) -> &Stats;
+    /// When an open scene's spheres were found to have flown apart for good, if they have.
+    fn flown_apart(&self) -> Option<f64>;
     fn motion(&self) -> &Motion;
     fn current(&self) -> Vec<response::Trajectory>;
     fn take_log(&mut self) -> Vec<EventRecord>;
@@ -76,6 +78,9 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
     }
     fn now(&self) -> f64 {
         self.now
+    }
+    fn flown_apart(&self) -> Option<f64> {
+        Engine::flown_apart(self)
     }
     fn stats(&self) -> &Stats {
         &self.stats

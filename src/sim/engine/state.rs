@@ -1,9 +1,10 @@
 //! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
 //! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
 //! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
-//! cells' contents, the calendar). The layout is format version 4 (`sim::checkpoint`; 4 added
-//! `Best::beyond`).
+//! cells' contents, the calendar). The layout is format version 5 (`sim::checkpoint`; 4 added
+//! `Best::beyond`, 5 the dispersal state).
 
+use super::dispersal::Meeting;
 use super::{Best, Candidate, Engine};
 use crate::contact::Body;
 use crate::shape::ShapeKind;
@@ -52,6 +53,7 @@ macro_rules! engine_state {
         $each!($engine.min_progress);
         $each!($engine.width);
         $each!($engine.stats);
+        $each!($engine.dispersal);
     };
 }
 
@@ -109,6 +111,9 @@ impl<
             )));
         }
         self.responder.load(d, self.m.bodies.len())?;
+        if self.dispersal.parked {
+            self.check_parked()?;
+        }
         self.rebuild(masses, materials);
         Ok(())
     }
@@ -165,10 +170,11 @@ impl<
         }
         // Where it was and where it is now: both within the shell (found by fuzzing: a
         // sphere at its own time 10¹³⁹ before now left the box and its shell).
+        // Parked spheres have left their shells (`check_parked` checks them instead).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
         let now = b.at(self.now, self.m.g).0;
         let away = (b.r - c).length().max((now - c).length());
-        if away.is_nan() || away > limit {
+        if away.is_nan() || (away > limit && !self.dispersal.parked) {
             return Err(bad(format!(
                 "sphere {id}: {away} from its shell centre, beyond the shell's {}",
                 self.lists.delta
@@ -193,6 +199,31 @@ impl<
             .any(|t| t.is_nan())
         {
             return Err(bad(format!("sphere {id}: an event time is NaN")));
+        }
+        Ok(())
+    }
+
+    /// A parked engine's spheres: none with an event, no pair that meets (else the
+    /// checkpoint is refused). Their shells stay as saved (a load then save gives the same
+    /// bytes): nothing reads the lists until new velocities wake the engine (`dispersal.rs`).
+    fn check_parked(&mut self) -> Result<(), SimError> {
+        if let Some(b) = self.best.iter().find(|b| b.shell_t != f64::INFINITY) {
+            return Err(bad(format!(
+                "parked, but a shell event at t = {}",
+                b.shell_t
+            )));
+        }
+        let id = |k: u32| self.id_of[k as usize];
+        match self.never_meet() {
+            Ok(()) => {}
+            Err(Meeting::NotOpen) => return Err(bad("parked, but not an open scene".into())),
+            Err(Meeting::Event(i)) => {
+                return Err(bad(format!("parked, but sphere {} has an event", id(i))));
+            }
+            Err(Meeting::Pair(i, j)) => {
+                let (i, j) = (id(i), id(j));
+                return Err(bad(format!("parked, but spheres {i} and {j} meet")));
+            }
         }
         Ok(())
     }
