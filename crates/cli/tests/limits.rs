@@ -389,3 +389,58 @@ fn huge_numbers_in_messages_are_in_exponent_form() {
     assert!(err.contains("gas.toml's snapshot_every, --t-end)"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An open scene whose spheres fly apart runs to `t_end = 1e25` at once (a lone sphere once
+/// left its shell for ever): the summary says when they flew apart and prints the end in
+/// exponent form; the last frame of the trajectory, read here, has each sphere on its line.
+#[test]
+fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
+    let dir = scratch("flying-apart");
+    let scene = dir.join("apart.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1e25\nsnapshot_every = 1e24\n\n\
+         [[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\nvelocity = [-1, 0.5, 0]\n\n\
+         [[sphere]]\ncentre = [3, 0, 0]\nradius = 0.5\nvelocity = [1, 0, -0.25]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = bin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", run_support::stderr(&o));
+    assert!(text.contains("run          t = 0 → 1e25 in "), "{text}");
+    assert!(text.contains("flown apart  at t = "), "{text}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let since = summary["flown_apart"].as_f64().expect("flown_apart set");
+    assert!(since > 0.0 && since < 1e3, "{since}");
+    let xyz = std::fs::read_to_string(out.join("trajectory.xyz")).unwrap();
+    let last: Vec<Vec<f64>> = xyz
+        .lines()
+        .rev()
+        .take(2)
+        .map(|l| {
+            l.split_whitespace()
+                .skip(1)
+                .take(3)
+                .map(|x| x.parse().unwrap())
+                .collect()
+        })
+        .collect();
+    let want = [[3.0 + 1e25, 0.0, -0.25e25], [-1e25, 0.5e25, 0.0]];
+    for (got, want) in last.iter().zip(want) {
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g - w).abs() <= 4.0 * f64::EPSILON * w.abs(),
+                "{got:?} against {want:?}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -13,7 +13,7 @@ use spheresweep::sim::{Boundary, Response, World, observables};
 
 use super::outputs::{self, Manifest};
 use super::simulate::Run;
-use crate::number::counted;
+use crate::number::{counted, num};
 
 /// What the summary says of the scene, taken from its world before the simulation is built.
 pub struct About {
@@ -99,6 +99,8 @@ pub struct Summary {
     static_shapes: usize,
     /// The time the run ended at.
     t_end: f64,
+    /// In an open scene, when the spheres were found to have flown apart for good.
+    flown_apart: Option<f64>,
     /// Wall-clock seconds spent simulating, over every resumed part.
     wall_seconds: f64,
     /// Collisions by kind, and their rate.
@@ -246,6 +248,7 @@ impl Summary {
             spheres: about.spheres,
             static_shapes: about.walls,
             t_end: sim.time(),
+            flown_apart: sim.flown_apart(),
             wall_seconds: c.simulated,
             collisions: Collisions {
                 pair: stats.pair_collisions,
@@ -363,8 +366,17 @@ impl Summary {
         writeln!(
             out,
             "run          t = 0 → {} in {:.3} s of wall time",
-            self.t_end, self.wall_seconds
+            num(self.t_end),
+            self.wall_seconds
         )?;
+        if let Some(t) = self.flown_apart {
+            writeln!(
+                out,
+                "flown apart  at t = {}: no pair can meet and no sphere is headed for a shape, \
+                 so nothing happened after it",
+                num(t)
+            )?;
+        }
         writeln!(
             out,
             "collisions   {} pair, {} wall: {} per second of wall time",
@@ -518,6 +530,7 @@ mod tests {
             spheres: 2,
             static_shapes: 0,
             t_end: 1.0,
+            flown_apart: Some(0.5),
             wall_seconds: 0.5,
             collisions: Collisions {
                 pair: 1,
