@@ -345,6 +345,9 @@ class Simulation:
     @property
     def time(self) -> float: ...
     @property
+    def flown_apart(self) -> Optional[float]:
+        """When an open scene's spheres were found to have flown apart for good, or None."""
+    @property
     def t_end(self) -> Optional[float]:
         """The scene file's ``[run] t_end``, or None."""
     @property

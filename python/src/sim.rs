@@ -435,6 +435,13 @@ impl Simulation {
         self.lock(py).time()
     }
 
+    /// When an open scene's spheres were found to have flown apart for good (no pair ever
+    /// meets, no sphere moves towards a shape: nothing more happens), or `None`.
+    #[getter]
+    fn flown_apart(&self, py: Python<'_>) -> Option<f64> {
+        self.lock(py).flown_apart()
+    }
+
     /// The end time the scene file asked for (`[run] t_end`), or `None`.
     #[getter]
     fn t_end(&self) -> Option<f64> {

@@ -459,3 +459,21 @@ def test_images_and_unwrapped_positions_follow_a_free_flight():
     free.advance_to(7.0)
     assert free.images().tolist() == [[0, 0, 0]] * 2 and free.box is None
     assert np.array_equal(free.unwrapped_positions(), free.positions)
+
+
+def test_spheres_that_fly_apart_finish_at_once_and_say_when():
+    # Two spheres receding in open space: after a few dozen shell events nothing can happen
+    # any more; advancing to 1e20 is then immediate, and the centres are on their lines.
+    start = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0]])
+    v = np.array([[-1.0, 0.5, 0.0], [1.0, 0.0, -0.25]])
+    sim = ss.Simulation.from_spheres(start, v, [0.5, 0.5])
+    assert sim.flown_apart is None
+    sim.advance_to(1e20)
+    assert sim.flown_apart is not None and sim.flown_apart < 1e3
+    assert np.allclose(sim.positions, start + 1e20 * v, rtol=1e-15, atol=0)
+    with pytest.raises(ValueError, match=r"sphere [01] would be beyond 2"):
+        sim.advance_to(1e300)
+    assert sim.time == 1e20
+    # New velocities wake it (turned towards each other, they would meet again).
+    sim.set_velocities(-v)
+    assert sim.flown_apart is None
