@@ -405,3 +405,82 @@ fn shapes_in_a_periodic_box_are_met_as_themselves_or_refused() {
         );
     }
 }
+
+/// Report-only (`Response::ReportOnly`): each static shape a sphere meets is reported once, at
+/// the time worked out here, and the sphere goes on through it (it stalled the clock at the
+/// first contact, reporting it again and again). A straight line meets a plane, an infinite
+/// cylinder or a container's wall in one interval; after new velocities a shape is met again.
+#[test]
+fn report_only_reports_each_shape_met_once() {
+    let ball = |centre: DVec3, velocity: DVec3| SphereState {
+        centre,
+        velocity,
+        radius: 0.5,
+        mass: 1.0,
+        material: 0,
+    };
+    let world = World {
+        // A: along +x through a pillar at x = 5 (radius 1), then out of the vessel (radius
+        // 20); B: down onto a floor at z = −10, then out of the vessel; C: out of the vessel.
+        spheres: vec![
+            ball(DVec3::ZERO, DVec3::X),
+            ball(DVec3::new(0.0, 0.0, -5.0), -DVec3::Z),
+            ball(DVec3::new(0.0, 10.0, 0.0), DVec3::Y),
+        ],
+        statics: Statics::new()
+            .with(Plane::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0]).unwrap(), 0)
+            .with(
+                Cylinder::new([5.0, 0.0, 0.0], [5.0, 0.0, 1.0], 1.0).unwrap(),
+                0,
+            )
+            .with(Container::new([0.0; 3], 20.0).unwrap(), 0),
+        effects: Effects {
+            response: Response::ReportOnly,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    sim.advance_to(100.0).unwrap();
+    let met: Vec<(f64, u32, Body)> = (sim.take_events().iter())
+        .map(|e| (e.time, e.sphere, e.other))
+        .collect();
+    let shape = |kind| Body::new(kind, 0);
+    let want = [
+        (3.5, 0, shape(ShapeKind::Cylinder)),
+        (4.5, 1, shape(ShapeKind::Plane)),
+        (9.5, 2, shape(ShapeKind::Container)),
+        (14.5, 1, shape(ShapeKind::Container)),
+        (19.5, 0, shape(ShapeKind::Container)),
+    ];
+    assert_eq!(met.len(), want.len(), "{met:?}");
+    for (got, want) in met.iter().zip(want) {
+        assert!((got.0 - want.0).abs() < 1e-12 && (got.1, got.2) == (want.1, want.2));
+    }
+    // Turned round at x = 100, A comes back into the vessel (a container's contact is its
+    // wall from inside), meets the pillar at x = 6.5 (t = 193.5) and the vessel's far wall at
+    // x = −19.5 (t = 219.5); C, whose last shape was the vessel, meets its far wall at
+    // y = −19.5 (t = 229.5): a shape met before is met again after new velocities.
+    let v = sim
+        .spheres()
+        .iter()
+        .map(|s| -s.velocity)
+        .collect::<Vec<_>>();
+    sim.set_velocities(&v).unwrap();
+    sim.advance_to(250.0).unwrap();
+    let again: Vec<(f64, u32, Body)> = (sim.take_events().iter())
+        .filter(|e| e.sphere != 1)
+        .map(|e| (e.time, e.sphere, e.other))
+        .collect();
+    let want = [
+        (193.5, 0, ShapeKind::Cylinder),
+        (219.5, 0, ShapeKind::Container),
+        (229.5, 2, ShapeKind::Container),
+    ];
+    assert_eq!(again.len(), want.len(), "{again:?}");
+    for (got, (t, sphere, kind)) in again.iter().zip(want) {
+        let same = (got.0 - t).abs() < 1e-9 && (got.1, got.2) == (sphere, shape(kind));
+        assert!(same, "{again:?}");
+    }
+}

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::cells::{self, Cells};
+use super::cells::Cells;
 use super::checkpoint::world_fingerprint;
 use super::engine::{self, Engine};
 use super::invariant;
@@ -66,13 +66,7 @@ impl Simulation {
             tc: world.effects.tc,
         };
         let engine = match response {
-            ResponseChoice::ReportOnly => pick_motion(
-                ReportOnly {
-                    partner: vec![cells::NONE; n],
-                },
-                switches,
-                parts,
-            ),
+            ResponseChoice::ReportOnly => pick_motion(ReportOnly::new(n), switches, parts),
             ResponseChoice::Elastic => pick_motion(Elastic, switches, parts),
             ResponseChoice::Materials { table, count } => pick_motion(
                 Materials::new(table, count, world.effects.tc, &masses.clone()),

@@ -587,6 +587,7 @@ impl<
             material,
             floor,
             hop,
+            body: wall,
         };
         self.responder
             .wall(&mut self.m, i, contact, now, &mut self.outcome);
@@ -669,11 +670,14 @@ impl<
         };
         if WALLS {
             let b = self.m.bodies[i as usize];
+            // Report-only: the shape last met is not met again (`ReportOnly::shape`).
+            let skip = self.responder.shape_touched(i);
+            let counts = &mut self.stats.kernels;
             let (mut t, wall) = if GRAVITY {
-                let counts = &mut self.stats.kernels;
-                (self.walls).earliest_falling(b.r, b.v, self.m.g, b.radius, counts)
+                let g = self.m.g;
+                (self.walls).earliest_falling((b.r, b.v, b.radius), g, skip, counts)
             } else {
-                (self.walls).earliest(b.r, b.v, b.radius, &mut self.stats.kernels)
+                (self.walls).earliest((b.r, b.v, b.radius), skip, counts)
             };
             if self.broken_walls
                 && t == 0.0
@@ -848,6 +852,7 @@ impl<
                 SimError::State(format!("velocities: sphere {}: {why}", id_of[k as usize]))
             })?;
         self.wake();
+        self.responder.new_velocities();
         for k in 0..n {
             let new = v[self.id_of[k] as usize];
             self.m.set_velocity(k as u32, new, self.now);

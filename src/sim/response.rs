@@ -7,6 +7,9 @@ use glam::DVec3;
 
 use super::checkpoint::{Decoder, Encoder};
 use super::model::{Response, SimError};
+use super::persist::Persist;
+use crate::contact::Body;
+use crate::shape::ShapeKind;
 
 /// One sphere's straight-line trajectory, f64: centre `r` at its own time `t`, velocity,
 /// radius. 64 bytes, so a neighbour is one cache line.
@@ -154,6 +157,13 @@ pub(crate) trait Responder: Send + Sync + 'static {
     fn touching(&self, _i: u32, _j: u32) -> bool {
         false
     }
+    /// Report-only scenes: the static shape sphere `i`'s predictions skip (`NO_SHAPE`).
+    #[inline(always)]
+    fn shape_touched(&self, _i: u32) -> Body {
+        NO_SHAPE
+    }
+    /// Every sphere was given a new velocity.
+    fn new_velocities(&mut self) {}
 }
 
 /// Relative normal speeds below this fraction of the relative speed count as grazing: the
@@ -186,6 +196,8 @@ pub(crate) struct Wall {
     /// Least normal speed at which the sphere leaves under gravity, so that a resting sphere
     /// hops ([`hop_off`], `walls::hop_speed`); `0` without gravity.
     pub hop: f64,
+    /// Which shape.
+    pub body: Body,
 }
 
 /// The velocity `v` with its normal part raised to at least `hop` (unchanged when it is
@@ -232,6 +244,27 @@ pub(crate) fn leave_wall(v: DVec3, n: DVec3, kappa: f64) -> (DVec3, bool) {
 pub(crate) struct ReportOnly {
     /// Each sphere's partner at its last reported contact.
     pub partner: Vec<u32>,
+    /// Each sphere's static shape at its last reported contact with one (`NO_SHAPE` for
+    /// none): a straight line meets a plane, an infinite cylinder or a container's wall in
+    /// one interval, so the sphere's predictions skip it until its velocity is set again
+    /// (reported again at once, it stalled the clock).
+    pub shape: Vec<Body>,
+}
+
+/// No static shape (`ReportOnly::shape`): a sphere is never a static shape.
+pub(crate) const NO_SHAPE: Body = Body {
+    kind: ShapeKind::Sphere,
+    index: u32::MAX,
+};
+
+impl ReportOnly {
+    /// For `n` spheres, none in contact with anything.
+    pub fn new(n: usize) -> Self {
+        Self {
+            partner: vec![super::cells::NONE; n],
+            shape: vec![NO_SHAPE; n],
+        }
+    }
 }
 
 /// `v` reordered so that entry `old` lands at `new_of_old[old]`.
@@ -256,10 +289,14 @@ impl Responder for ReportOnly {
             .into_iter()
             .map(|p| renumbered(p, new_of_old))
             .collect();
+        self.shape = permuted(&self.shape, new_of_old);
     }
     fn save(&self, e: &mut Encoder) {
         for &p in &self.partner {
             e.u32(p);
+        }
+        for b in &self.shape {
+            b.save(e);
         }
     }
     fn load(&mut self, d: &mut Decoder, n: usize) -> Result<(), SimError> {
@@ -269,7 +306,18 @@ impl Responder for ReportOnly {
                 return Err(SimError::Checkpoint(format!("partner {p} does not exist")));
             }
         }
+        // The engine checks that a shape named exists (`Engine::load`).
+        for b in &mut self.shape {
+            b.load(d)?;
+        }
         Ok(())
+    }
+    fn new_velocities(&mut self) {
+        self.shape.fill(NO_SHAPE);
+    }
+    #[inline(always)]
+    fn shape_touched(&self, i: u32) -> Body {
+        self.shape[i as usize]
     }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
         self.partner[i as usize] = j;
@@ -279,6 +327,7 @@ impl Responder for ReportOnly {
         out.changed.extend([i, j]);
     }
     fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, _now: f64, out: &mut Outcome) {
+        self.shape[i as usize] = wall.body;
         out.approach = -m.bodies[i as usize].v.dot(wall.n);
         out.changed.push(i);
     }

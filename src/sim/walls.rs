@@ -12,10 +12,11 @@ use crate::kernels::{SettleSphere, settle_static, sphere_settle_lanes};
 use crate::shape::ShapeKind;
 use crate::statics::{OfKind, StaticShape, Statics, Visitor};
 
-/// The earliest contact of one sphere with every shape, kind by kind.
+/// The earliest contact of one sphere with every shape but `skip`, kind by kind.
 struct Earliest<'a> {
     lanes: SettleSphere,
     best: (f64, Body),
+    skip: Body,
     counts: &'a mut KernelCounts,
 }
 
@@ -24,7 +25,7 @@ impl<P> Visitor<P> for Earliest<'_> {
     fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
         for (k, prepared) in shapes.settle().iter().enumerate() {
             let t = settle_static::<K>(&self.lanes, prepared);
-            if t < self.best.0 {
+            if t < self.best.0 && Body::new(K::KIND, k as u32) != self.skip {
                 self.best = (t, Body::new(K::KIND, k as u32));
             }
         }
@@ -32,13 +33,14 @@ impl<P> Visitor<P> for Earliest<'_> {
     }
 }
 
-/// The earliest contact of one falling sphere with every shape, kind by kind.
+/// The earliest contact of one falling sphere with every shape but `skip`, kind by kind.
 struct EarliestFalling<'a> {
     r: DVec3,
     v: DVec3,
     h: DVec3,
     radius: f64,
     best: (f64, Body),
+    skip: Body,
     counts: &'a mut KernelCounts,
 }
 
@@ -48,7 +50,7 @@ impl<P> Visitor<P> for EarliestFalling<'_> {
         for (k, shape) in shapes.shapes().iter().enumerate() {
             let p = shape.falling_polynomial(self.r, self.v, self.h, self.radius);
             let t = earliest_rise(&p);
-            if t < self.best.0 {
+            if t < self.best.0 && Body::new(K::KIND, k as u32) != self.skip {
                 self.best = (t, Body::new(K::KIND, k as u32));
             }
         }
@@ -58,14 +60,14 @@ impl<P> Visitor<P> for EarliestFalling<'_> {
 
 impl Statics<u16> {
     /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape
-    /// under the uniform acceleration `g`, each kind's polynomial answered by the certified
-    /// root isolation of `kernels::falling`; ties go to the first in tie-break order.
+    /// but `skip` under the uniform acceleration `g`, each kind's polynomial answered by the
+    /// certified root isolation of `kernels::falling`; ties go to the first in tie-break
+    /// order.
     pub(crate) fn earliest_falling(
         &self,
-        r: DVec3,
-        v: DVec3,
+        (r, v, radius): (DVec3, DVec3, f64),
         g: DVec3,
-        radius: f64,
+        skip: Body,
         counts: &mut KernelCounts,
     ) -> (f64, Body) {
         let mut e = EarliestFalling {
@@ -74,25 +76,26 @@ impl Statics<u16> {
             h: g * 0.5,
             radius,
             best: (f64::INFINITY, Body::new(ShapeKind::Plane, 0)),
+            skip,
             counts,
         };
         self.visit(&mut e);
         e.best
     }
 
-    /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape,
-    /// in f64 (the `Stable` kernels on `f64x4`, one lane used); ties go to the first in
-    /// tie-break order.
+    /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape
+    /// but `skip`, in f64 (the `Stable` kernels on `f64x4`, one lane used); ties go to the
+    /// first in tie-break order.
     pub(crate) fn earliest(
         &self,
-        r: DVec3,
-        v: DVec3,
-        radius: f64,
+        (r, v, radius): (DVec3, DVec3, f64),
+        skip: Body,
         counts: &mut KernelCounts,
     ) -> (f64, Body) {
         let mut e = Earliest {
             lanes: sphere_settle_lanes(r, v, radius),
             best: (f64::INFINITY, Body::new(ShapeKind::Plane, 0)),
+            skip,
             counts,
         };
         self.visit(&mut e);

@@ -12,7 +12,7 @@ use crate::sim::cells::NONE;
 use crate::sim::checkpoint::{Decoder, Encoder};
 use crate::sim::model::SimError;
 use crate::sim::persist::{Persist, persist_fields};
-use crate::sim::response::{Responder, Trajectory};
+use crate::sim::response::{NO_SHAPE, Responder, Trajectory};
 
 persist_fields!(Trajectory { r, t, v, radius });
 persist_fields!(Candidate { t, j, counter });
@@ -111,6 +111,15 @@ impl<
             )));
         }
         self.responder.load(d, self.m.bodies.len())?;
+        for k in 0..self.best.len() as u32 {
+            let shape = self.responder.shape_touched(k);
+            if shape != NO_SHAPE && self.walls.get(shape).is_none() {
+                let id = self.id_of[k as usize];
+                return Err(bad(format!(
+                    "sphere {id}: last met {shape}, which does not exist"
+                )));
+            }
+        }
         if self.dispersal.parked {
             self.check_parked()?;
         }
