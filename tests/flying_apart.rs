@@ -102,7 +102,8 @@ fn pairs_that_meet_late_or_barely_are_met() {
     let s = sim.spheres();
     assert_eq!((s[0].velocity.x, s[1].velocity.x), (-0.01, 0.01));
     let since = sim.flown_apart().expect("flown apart after the collision");
-    assert!(since > 49_950.0, "{since}");
+    // Nothing has met anything since the collision.
+    assert!((since - 49_950.0).abs() < 1e-6, "{since}");
     let meet = 49_950.0;
     let want = DVec3::X * (0.01 * meet - 0.01 * (1e9 - meet));
     assert!((s[0].centre - want).length() < 1e-6, "{:?}", s[0].centre);
@@ -118,10 +119,10 @@ fn pairs_that_meet_late_or_barely_are_met() {
         let mut sim = Simulation::new(passing).unwrap();
         bounded(&mut sim, 1e6, 50).unwrap();
         assert_eq!(sim.stats().pair_collisions, u64::from(meets), "b = {b}");
-        // Met, they part and then fly apart; a hair apart, they were never going to meet,
-        // which the test for flying apart sees before they pass.
+        // Met, nothing has happened since the collision near t = 200; a hair apart, nothing
+        // ever happened (the test for flying apart sees that they never meet before they pass).
         let since = sim.flown_apart().expect("flown apart");
-        assert_eq!(since > 199.0, meets, "b = {b}: parked at {since}");
+        assert_eq!(since > 199.0, meets, "b = {b}: nothing since {since}");
     }
 }
 
@@ -169,22 +170,46 @@ fn a_parked_run_checkpoints_and_wakes() {
     assert!(err.contains("parked, but"), "{err}");
 }
 
-/// Asked to go on until a parked sphere would be past the range, the run refuses, naming the
-/// sphere, the time and when nothing more could happen, and stays where it was.
+/// Asked to go on until a parked sphere would be past its reach, the run refuses, naming the
+/// sphere, the time, when the last event was and how far it can go (and goes there), and stays
+/// where it was: two spheres side by side moving together (a gap of 0.5 they keep) reach
+/// `2⁵⁰ (0.5 + 2⁻¹⁶)` (about 5.6·10¹⁴), where their positions would round by a good part of
+/// the gap; a lone sphere goes to `2¹⁰⁰` (about 1.27·10³⁰).
 #[test]
-fn a_parked_run_refuses_to_fly_past_the_range() {
-    let world = World {
-        spheres: vec![
-            ball(DVec3::ZERO, DVec3::X),
-            ball(DVec3::Y * 5.0, DVec3::ZERO),
-        ],
+fn a_parked_run_refuses_to_fly_past_its_reach() {
+    let side_by_side = World {
+        spheres: vec![ball(DVec3::ZERO, DVec3::X), ball(DVec3::Y * 1.5, DVec3::X)],
         ..World::default()
     };
-    let mut sim = Simulation::new(world).unwrap();
-    bounded(&mut sim, 1e29, 2).unwrap();
-    let err = sim.advance_to(1e300).unwrap_err();
-    assert!(matches!(err, SimError::Flown { sphere: 0, .. }), "{err}");
-    let text = err.to_string();
-    assert!(text.contains("sphere 0 would be beyond 2¹⁰⁰") && text.contains("t = 1e300"));
-    assert_eq!(sim.time(), 1e29);
+    let lone = World {
+        spheres: vec![ball(DVec3::ZERO, DVec3::X)],
+        ..World::default()
+    };
+    let margin = 0.5 + 1.0 / 65536.0;
+    for (world, reach) in [
+        (side_by_side, 2f64.powi(50) * margin),
+        (lone, 2f64.powi(100)),
+    ] {
+        let mut sim = Simulation::new(world).unwrap();
+        bounded(&mut sim, reach / 2.0, 2).unwrap();
+        let err = sim.advance_to(reach * 2.0).unwrap_err();
+        let SimError::Flown {
+            sphere,
+            time,
+            since,
+            reachable,
+        } = err
+        else {
+            panic!("{err}");
+        };
+        assert!(sphere <= 1 && time == reach * 2.0 && since == 0.0, "{err}");
+        assert!(
+            reachable <= reach && reachable > reach * (1.0 - 1e-12),
+            "{err}"
+        );
+        assert_eq!(sim.time(), reach / 2.0);
+        let text = err.to_string();
+        assert!(text.contains("the run can go on to t = "), "{text}");
+        sim.advance_to(reachable).unwrap();
+    }
 }

@@ -346,7 +346,8 @@ class Simulation:
     def time(self) -> float: ...
     @property
     def flown_apart(self) -> Optional[float]:
-        """When an open scene's spheres were found to have flown apart for good, or None."""
+        """Once an open scene's spheres have flown apart for good, the time of the last thing
+        that happened (0.0 if nothing did); None until then."""
     @property
     def t_end(self) -> Optional[float]:
         """The scene file's ``[run] t_end``, or None."""

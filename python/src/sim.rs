@@ -435,8 +435,8 @@ impl Simulation {
         self.lock(py).time()
     }
 
-    /// When an open scene's spheres were found to have flown apart for good (no pair ever
-    /// meets, no sphere moves towards a shape: nothing more happens), or `None`.
+    /// Once an open scene's spheres have flown apart for good (no pair ever meets, no sphere
+    /// moves towards a shape), the time of the last thing that happened; `None` until then.
     #[getter]
     fn flown_apart(&self, py: Python<'_>) -> Option<f64> {
         self.lock(py).flown_apart()

@@ -469,9 +469,9 @@ def test_spheres_that_fly_apart_finish_at_once_and_say_when():
     sim = ss.Simulation.from_spheres(start, v, [0.5, 0.5])
     assert sim.flown_apart is None
     sim.advance_to(1e20)
-    assert sim.flown_apart is not None and sim.flown_apart < 1e3
+    assert sim.flown_apart == 0.0  # nothing ever happened
     assert np.allclose(sim.positions, start + 1e20 * v, rtol=1e-15, atol=0)
-    with pytest.raises(ValueError, match=r"sphere [01] would be beyond 2"):
+    with pytest.raises(ValueError, match=r"the run can go on to t = 1.2676506002282\d*e30"):
         sim.advance_to(1e300)
     assert sim.time == 1e20
     # New velocities wake it (turned towards each other, they would meet again).

@@ -193,6 +193,9 @@ pub(crate) struct Engine<
     pub images: Vec<[i64; 3]>,
     /// Whether an open scene's spheres have flown apart for good (`dispersal.rs`).
     dispersal: dispersal::Dispersal,
+    /// Parked only (else empty): how far from the origin each sphere may go
+    /// (`Engine::never_meet`); derived, not in a checkpoint.
+    reach: Vec<f64>,
 }
 
 /// Bytes an engine for `n` spheres holds when built on a grid of at most `max_cells` cells,
@@ -295,6 +298,7 @@ impl<
                 Vec::new()
             },
             dispersal: dispersal::Dispersal::new(n),
+            reach: Vec::new(),
             m,
         };
         for i in 0..n as u32 {

@@ -360,20 +360,25 @@ pub enum SimError {
         /// How many events at that time.
         events: u64,
     },
-    /// An open scene's spheres have flown apart for good (no sphere meets anything after
-    /// `since`), and advancing to `time` would carry one beyond [`MAX_MAGNITUDE`].
+    /// An open scene's spheres have flown apart for good (nothing has met anything since
+    /// `since`), and at `time` a sphere would be so far from the origin that its position
+    /// rounds by more than the gap it keeps to its nearest sphere, or beyond
+    /// [`MAX_MAGNITUDE`]; the run can go on to `reachable`.
     #[error(
-        "sphere {sphere} would be beyond 2¹⁰⁰ (about 1.3e30) from the origin at t = {}, outside the range the simulation computes in: the spheres have flown apart (nothing meets anything after t = {}), so end the run sooner",
+        "t = {} is beyond what the simulation can reach: the spheres have flown apart (nothing has met anything since t = {}), and by then sphere {sphere} would be so far from the origin that its position rounds by more than the gap it keeps to its nearest sphere (or beyond 2¹⁰⁰): the run can go on to t = {}",
         crate::error::Num(*time),
-        crate::error::Num(*since)
+        crate::error::Num(*since),
+        crate::error::Num(*reachable)
     )]
     Flown {
         /// The sphere (the first found).
         sphere: usize,
         /// The time asked for.
         time: f64,
-        /// When the engine found that nothing meets anything any more.
+        /// The last event's time.
         since: f64,
+        /// The latest time every sphere is within its reach.
+        reachable: f64,
     },
 }
 

@@ -415,11 +415,17 @@ fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", run_support::stderr(&o));
     assert!(text.contains("run          t = 0 → 1e25 in "), "{text}");
-    assert!(text.contains("flown apart  at t = "), "{text}");
+    assert!(
+        text.contains("flown apart  nothing has met anything since t = 0,"),
+        "{text}"
+    );
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
-    let since = summary["flown_apart"].as_f64().expect("flown_apart set");
-    assert!(since > 0.0 && since < 1e3, "{since}");
+    assert_eq!(
+        summary["flown_apart"].as_f64(),
+        Some(0.0),
+        "nothing ever happened"
+    );
     let xyz = std::fs::read_to_string(out.join("trajectory.xyz")).unwrap();
     let last: Vec<Vec<f64>> = xyz
         .lines()

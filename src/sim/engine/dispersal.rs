@@ -12,10 +12,12 @@
 
 use wide::f64x4;
 
+use glam::DVec3;
+
 use super::{Engine, Responder, SimError};
-use crate::sim::MAX_MAGNITUDE;
 use crate::sim::persist::{COUNT_LIMIT, persist_fields};
 use crate::sim::predict::arrivals;
+use crate::sim::{MAX_MAGNITUDE, OVERLAP_TOLERANCE};
 
 /// Why the spheres have not flown apart (internal indices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,15 +39,16 @@ pub(crate) struct Dispersal {
     pub wait: u64,
     /// Whether the spheres have flown apart: no sphere has an event (the shells are stale).
     pub parked: bool,
-    /// When they were found to have flown apart (`+∞` while they have not).
-    pub since: f64,
+    /// The time of the last event other than a shell event (the start before any): once
+    /// parked, nothing has happened since.
+    pub last_event: f64,
 }
 
 persist_fields!(Dispersal {
     quiet,
     wait,
     parked,
-    since
+    last_event
 });
 
 impl Dispersal {
@@ -56,7 +59,7 @@ impl Dispersal {
             quiet: 0,
             wait: (n.saturating_mul(n) / 16).clamp(64, COUNT_LIMIT),
             parked: false,
-            since: f64::INFINITY,
+            last_event: 0.0,
         }
     }
 }
@@ -77,7 +80,11 @@ impl<
             return;
         }
         let d = &mut self.dispersal;
-        d.quiet = if shell { d.quiet + 1 } else { 0 };
+        if shell {
+            d.quiet += 1;
+        } else {
+            (d.quiet, d.last_event) = (0, self.now);
+        }
         if d.quiet >= d.wait {
             self.test_dispersal();
         }
@@ -86,7 +93,8 @@ impl<
     /// The test itself, out of line (it is rare).
     #[inline(never)]
     fn test_dispersal(&mut self) {
-        if self.never_meet().is_ok() {
+        if let Ok(reach) = self.never_meet() {
+            self.reach = reach;
             self.park();
         } else {
             let d = &mut self.dispersal;
@@ -98,7 +106,6 @@ impl<
     /// No sphere has an event any more: the calendar is empty.
     fn park(&mut self) {
         self.dispersal.parked = true;
-        self.dispersal.since = self.now;
         for i in 0..self.best.len() as u32 {
             self.best[i as usize].shell_t = f64::INFINITY;
             self.schedule(i);
@@ -112,32 +119,56 @@ impl<
             return;
         }
         self.dispersal = Dispersal::new(self.best.len());
+        self.reach = Vec::new();
         self.recentre_shells();
         self.build_lists();
     }
 
-    /// When the spheres were found to have flown apart, if they have.
+    /// Since when nothing has met anything, if the spheres have flown apart for good.
     pub fn flown_apart(&self) -> Option<f64> {
-        self.dispersal.parked.then_some(self.dispersal.since)
+        self.dispersal.parked.then_some(self.dispersal.last_event)
     }
 
-    /// A parked engine asked to go on to `t`: refused if a sphere would then be beyond
-    /// [`MAX_MAGNITUDE`] (at `1e308` one moving at 2 would be at infinity).
+    /// A parked engine asked to go on to `t`: refused if a sphere would then be past its
+    /// reach (`never_meet`), naming the time the run can go on to.
     pub(super) fn check_flight(&self, t: f64) -> Result<(), SimError> {
         if !self.dispersal.parked {
             return Ok(());
         }
-        for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
+        let mut first = None;
+        let mut reachable = f64::INFINITY;
+        // A sphere at rest stays where it is.
+        for (k, b) in self
+            .m
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.v != DVec3::ZERO)
+        {
+            let reach = self.reach[k];
             let r = b.r + b.v * (t - b.t);
-            if !r.is_finite() || r.abs().max_element() > MAX_MAGNITUDE {
-                return Err(SimError::Flown {
-                    sphere: id as usize,
-                    time: t,
-                    since: self.dispersal.since,
-                });
+            let beyond = !r.is_finite() || r.abs().max_element() > reach;
+            if first.is_none() && beyond {
+                first = Some(self.id_of[k] as usize);
+            }
+            // Each axis' time to `reach`, a little short of it (rounding).
+            let near = reach * (1.0 - f64::EPSILON * 8.0);
+            for a in 0..3 {
+                if b.v[a] != 0.0 {
+                    let s = (near.copysign(b.v[a]) - b.r[a]) / b.v[a];
+                    reachable = reachable.min(b.t + s);
+                }
             }
         }
-        Ok(())
+        match first {
+            None => Ok(()),
+            Some(sphere) => Err(SimError::Flown {
+                sphere,
+                time: t,
+                since: self.dispersal.last_event,
+                reachable: reachable.max(self.now),
+            }),
+        }
     }
 
     /// Every shell centre moved to its sphere's position now, and the cells with it.
@@ -152,8 +183,13 @@ impl<
 
     /// Whether the spheres have flown apart: an open domain without gravity, no sphere with a
     /// pending pair or static-shape event, and no pair (by brute force, in the prediction's
-    /// own kernel) that will ever meet; else why not.
-    pub(super) fn never_meet(&self) -> Result<(), Meeting> {
+    /// own kernel) that will ever meet; else why not. If they have, each sphere's reach: how
+    /// far from the origin it may go, at most [`MAX_MAGNITUDE`], while its position rounds
+    /// (`2⁻⁵² |x|` a coordinate, `√3 · 2⁻⁵²` of it a distance) by less than half the gap it
+    /// keeps to a sphere moving with it plus the overlap tolerance, so that the invariant
+    /// check still reads the pair apart (`2⁵⁰` times that margin; docs/derivations/
+    /// simulation.md, "A scene that has flown apart").
+    pub(super) fn never_meet(&self) -> Result<Vec<f64>, Meeting> {
         if PERIODIC || GRAVITY {
             return Err(Meeting::NotOpen);
         }
@@ -162,36 +198,55 @@ impl<
                 return Err(Meeting::Event(i as u32));
             }
         }
-        // Every sphere now; relative motions four at a time, the contact distance in the
-        // fourth lane of `v` (as `arrivals` takes them).
-        let now: Vec<(f64x4, f64x4)> = (self.m.bodies.iter())
-            .map(|b| {
-                let r = b.r + b.v * (self.now - b.t);
-                let v = b.v;
-                (
-                    f64x4::new([r.x, r.y, r.z, 0.0]),
-                    f64x4::new([v.x, v.y, v.z, b.radius]),
-                )
-            })
+        let now: Vec<(DVec3, DVec3, f64)> = (self.m.bodies.iter())
+            .map(|b| (b.r + b.v * (self.now - b.t), b.v, b.radius))
             .collect();
-        let flip = f64x4::new([1.0, 1.0, 1.0, -1.0]);
-        for (i, &(ri, vi)) in now.iter().enumerate() {
-            let vi = vi * flip;
-            for (at, four) in now[i + 1..].chunks(4).enumerate() {
-                let mut r0 = [f64x4::ZERO; 4];
-                let mut v = [f64x4::new([1.0, 0.0, 0.0, 0.0]); 4];
-                for (k, &(rj, vj)) in four.iter().enumerate() {
-                    r0[k] = rj - ri;
-                    v[k] = vj - vi;
-                }
-                let (_, finite) = arrivals(r0, v);
-                let finite = finite & ((1 << four.len()) - 1);
-                if finite != 0 {
-                    let j = i + 1 + 4 * at + finite.trailing_zeros() as usize;
+        let mut margin = vec![f64::INFINITY; now.len()];
+        for (i, &(ri, vi, ai)) in now.iter().enumerate() {
+            for (k, &(rj, vj, aj)) in now[i + 1..].iter().enumerate() {
+                let j = i + 1 + k;
+                let (r0, v, d) = (rj - ri, vj - vi, ai + aj);
+                if meets(r0, v, d) {
                     return Err(Meeting::Pair(i as u32, j as u32));
                 }
+                // A pair moving together keeps its gap while both go far; any other pair's
+                // distance grows as fast as `‖v‖ t`, at least `2²⁴` times faster than what
+                // its rounding needs (`2⁻⁵⁰ ‖vᵢ‖ t`). The least distance from now on: at the
+                // closest approach, or now.
+                if v.length() > CO_MOVING * vi.length().max(vj.length()) {
+                    continue;
+                }
+                let a = v.length_squared();
+                let s = if a > 0.0 {
+                    (-r0.dot(v) / a).max(0.0)
+                } else {
+                    0.0
+                };
+                let gap = (r0 + v * s).length() - d + OVERLAP_TOLERANCE * d;
+                margin[i] = margin[i].min(gap);
+                margin[j] = margin[j].min(gap);
             }
         }
-        Ok(())
+        let two_50 = (1u64 << 50) as f64;
+        Ok(margin
+            .into_iter()
+            .map(|m| (m.max(0.0) * two_50).min(MAX_MAGNITUDE))
+            .collect())
     }
+}
+
+/// Relative speeds at most this fraction of the faster sphere's count as moving together
+/// (`never_meet`).
+const CO_MOVING: f64 = 1.0 / (1u64 << 26) as f64;
+
+/// Whether a pair at `r0`, moving at `v` relative to each other, meets at contact distance
+/// `d` from now on, as the prediction's kernel answers (`predict::arrivals`, one lane).
+fn meets(r0: DVec3, v: DVec3, d: f64) -> bool {
+    let lanes = |a: DVec3, w: f64| f64x4::new([a.x, a.y, a.z, w]);
+    let (far, still) = (lanes(DVec3::X, 0.0), lanes(DVec3::X, 0.0));
+    let (_, finite) = arrivals(
+        [lanes(r0, 0.0), far, far, far],
+        [lanes(v, d), still, still, still],
+    );
+    finite & 1 != 0
 }

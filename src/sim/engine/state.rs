@@ -224,7 +224,7 @@ impl<
         }
         let id = |k: u32| self.id_of[k as usize];
         match self.never_meet() {
-            Ok(()) => {}
+            Ok(reach) => self.reach = reach,
             Err(Meeting::NotOpen) => return Err(bad("parked, but not an open scene".into())),
             Err(Meeting::Event(i)) => {
                 return Err(bad(format!("parked, but sphere {} has an event", id(i))));

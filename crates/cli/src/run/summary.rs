@@ -99,7 +99,8 @@ pub struct Summary {
     static_shapes: usize,
     /// The time the run ended at.
     t_end: f64,
-    /// In an open scene, when the spheres were found to have flown apart for good.
+    /// In an open scene whose spheres have flown apart for good, the time of the last thing
+    /// that happened (a collision, or the start).
     flown_apart: Option<f64>,
     /// Wall-clock seconds spent simulating, over every resumed part.
     wall_seconds: f64,
@@ -372,8 +373,8 @@ impl Summary {
         if let Some(t) = self.flown_apart {
             writeln!(
                 out,
-                "flown apart  at t = {}: no pair can meet and no sphere is headed for a shape, \
-                 so nothing happened after it",
+                "flown apart  nothing has met anything since t = {}, and nothing can: no pair \
+                 meets again and no sphere is headed for a shape",
                 num(t)
             )?;
         }
