@@ -224,8 +224,13 @@ impl Settings {
                 }
                 out
             }
+            // Fractions of `t_end` (`t_end · k` overflowed from 5e306), the last `t_end` itself
+            // (`t_end · k / STEPS` rounded off it: 1e21 ended at 9.999999999999999e20).
             None => (1..=STEPS)
-                .map(|k| (t_end * k as f64 / STEPS as f64, false))
+                .map(|k| match k {
+                    STEPS => (t_end, false),
+                    _ => (t_end * (k as f64 / STEPS as f64), false),
+                })
                 .collect(),
         }
     }
@@ -263,6 +268,12 @@ mod tests {
         assert_eq!(every(1.0, None).frames_from(0), 0);
         let s = every(2.0, None).stops();
         assert_eq!((s.len(), s[STEPS - 1]), (STEPS, (2.0, false)));
+        // Huge ends: every stop finite and rising, the last the end itself.
+        for t_end in [1e21, 5e20, 1e27, 1e304, 5e306, f64::MAX] {
+            let s = every(t_end, None).stops();
+            assert_eq!(s.last(), Some(&(t_end, false)));
+            assert!(s.windows(2).all(|w| w[0].0 <= w[1].0 && w[1].0.is_finite()));
+        }
     }
 
     #[test]
