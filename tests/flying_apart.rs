@@ -213,3 +213,29 @@ fn a_parked_run_refuses_to_fly_past_its_reach() {
         sim.advance_to(reachable).unwrap();
     }
 }
+
+/// A free flight `10⁸` from the origin, with the engine kept awake by a pair that meets only at
+/// `t ≈ 10⁹`: after `3.5·10⁵` shell events its centre is still its straight line from the
+/// start, to a few ulps of `10⁸` (each shell event moved the body to its time, rounding at
+/// `10⁸`, and it drifted by `2.7·10⁻³`, 10⁵ ulps).
+#[test]
+fn a_free_flight_far_from_the_origin_stays_on_its_line() {
+    let start = DVec3::new(1e8, 0.0, 0.0);
+    let v = DVec3::new(1e-3, 1e-3, 0.0);
+    let world = World {
+        spheres: vec![
+            ball(start, v),
+            ball(DVec3::new(0.0, -2000.0, 0.0), DVec3::ZERO),
+            ball(DVec3::new(0.0, -3000.0, 0.0), DVec3::Y * 1e-6),
+        ],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    let t = 5e8;
+    bounded(&mut sim, t, 400).unwrap();
+    assert!(sim.flown_apart().is_none() && sim.stats().crossings > 100_000);
+    let line = start + v * t;
+    let got = sim.spheres()[0].centre;
+    let ulp = 1e8 * f64::EPSILON;
+    assert!((got - line).abs().max_element() <= 4.0 * ulp, "{got:?} against {line:?}");
+}

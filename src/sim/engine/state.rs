@@ -178,11 +178,18 @@ impl<
             )));
         }
         // Where it was and where it is now: both within the shell (found by fuzzing: a
-        // sphere at its own time 10¹³⁹ before now left the box and its shell).
-        // Parked spheres have left their shells (`check_parked` checks them instead).
+        // sphere at its own time 10¹³⁹ before now left the box and its shell); in an open
+        // domain without gravity a body keeps its last velocity change's place (`keep_anchor`),
+        // so only where it is now. Parked spheres have left their shells (`check_parked`
+        // checks them instead).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
         let now = b.at(self.now, self.m.g).0;
-        let away = (b.r - c).length().max((now - c).length());
+        let was = if PERIODIC || GRAVITY {
+            (b.r - c).length()
+        } else {
+            0.0
+        };
+        let away = was.max((now - c).length());
         if away.is_nan() || (away > limit && !self.dispersal.parked) {
             return Err(bad(format!(
                 "sphere {id}: {away} from its shell centre, beyond the shell's {}",
