@@ -237,5 +237,8 @@ fn a_free_flight_far_from_the_origin_stays_on_its_line() {
     let line = start + v * t;
     let got = sim.spheres()[0].centre;
     let ulp = 1e8 * f64::EPSILON;
-    assert!((got - line).abs().max_element() <= 4.0 * ulp, "{got:?} against {line:?}");
+    assert!(
+        (got - line).abs().max_element() <= 4.0 * ulp,
+        "{got:?} against {line:?}"
+    );
 }
