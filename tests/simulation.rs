@@ -337,6 +337,45 @@ fn inelastic_collapse_is_named_or_prevented() {
     }
 }
 
+/// An elastic scene whose events outrun the clock (a sphere at 10²⁹ beside two at 10⁻², each
+/// of its shell events 10⁻²⁹ apart) stalls, and is not told that it needs the TC model, which
+/// only inelastic collisions call for.
+#[test]
+fn a_stall_without_inelastic_collisions_names_the_clock_not_the_tc_model() {
+    let ball = |y: f64, v: DVec3| SphereState {
+        centre: DVec3::new(0.0, y, 0.0),
+        velocity: v,
+        radius: 0.5,
+        mass: 1.0,
+        material: 0,
+    };
+    let world = World {
+        spheres: vec![
+            ball(0.0, DVec3::X * 1e29),
+            ball(10.0, DVec3::ZERO),
+            ball(20.0, DVec3::Y * -0.01),
+        ],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    let err = sim.advance_to(1000.0).unwrap_err();
+    let text = err.to_string();
+    assert!(
+        matches!(
+            err,
+            SimError::Stalled {
+                inelastic: false,
+                ..
+            }
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("faster than the clock") && !text.contains("tc > 0"),
+        "{text}"
+    );
+}
+
 /// A driven granular gas in periodic boxes of 2 and 5 cells a side (the neighbour lists'
 /// whole-list and fresh-entries paths, images across every face), at restitution 0.02 (with
 /// the TC model) and 0.999. A thermostat rescales the velocities to unit kinetic energy per

@@ -366,6 +366,7 @@ impl<
                     return Err(SimError::Stalled {
                         time: self.now,
                         events: self.same_time,
+                        inelastic: R::INELASTIC,
                     });
                 }
             }

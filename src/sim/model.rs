@@ -351,14 +351,21 @@ pub enum SimError {
     /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a
     /// sphere's mean time between events (an inelastic collapse, or a bug).
     #[error(
-        "stalled at t = {}: {events} events without time advancing (a dense inelastic pile needs the TC model, `tc > 0`)",
-        crate::error::Num(*time)
+        "stalled at t = {}: {events} events without time advancing ({})",
+        crate::error::Num(*time),
+        if *inelastic {
+            "a dense inelastic pile needs the TC model, `tc > 0`"
+        } else {
+            "events came faster than the clock's resolution, 2⁻³⁰ of a sphere's mean time between events: speeds or sizes spanning too many orders of magnitude"
+        }
     )]
     Stalled {
         /// When.
         time: f64,
         /// How many events at that time.
         events: u64,
+        /// Whether collisions can lose energy (the TC model's remedy applies).
+        inelastic: bool,
     },
     /// An open scene's spheres have flown apart for good (nothing has met anything since
     /// `since`), and at `time` a sphere would be so far from the origin that its position

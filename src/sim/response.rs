@@ -129,6 +129,8 @@ impl Outcome {
 pub(crate) trait Responder: Send + Sync + 'static {
     /// Velocities never change; a pair in contact is not reported again until it separates.
     const REPORT_ONLY: bool;
+    /// Collisions can lose energy (an inelastic pile can collapse: the TC model's remedy).
+    const INELASTIC: bool = false;
     /// The response's name for summaries.
     const NAME: &'static str;
     /// Sphere `i` meets sphere `j` at `now`, both moved there by the engine; `dr = r_j − r_i`
@@ -593,6 +595,7 @@ impl Materials {
 
 impl Responder for Materials {
     const REPORT_ONLY: bool = false;
+    const INELASTIC: bool = true;
     const NAME: &'static str = "materials";
     fn set_time_scale(&mut self, mean: f64) {
         self.rapid_window = mean / (1u64 << 20) as f64;

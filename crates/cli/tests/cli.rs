@@ -375,6 +375,11 @@ fn a_failed_run_leaves_earlier_outputs_whole() {
             "--t-end -1 must be finite and greater than 0",
         ),
         ("--snapshots", "nan", "--snapshots NaN must be finite"),
+        (
+            "--t-end",
+            "1e309",
+            "'1e309' for '--t-end <T>': 1e309 is beyond the largest number",
+        ),
     ] {
         let out = run(&["run", scene.to_str().unwrap(), flag, value]);
         assert!(!out.status.success());

@@ -27,11 +27,11 @@ pub struct Args {
     pub out: Option<PathBuf>,
     /// End time, in the scene's time unit (its lengths over its speeds); finite and greater
     /// than 0. Default: the scene's `[run] t_end`.
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = number)]
     pub t_end: Option<f64>,
     /// Time between snapshots, in the scene's time unit; 0 for none, at most 10⁶ snapshots.
     /// Default: the scene's `[run] snapshot_every`.
-    #[arg(long, value_name = "EVERY", allow_negative_numbers = true)]
+    #[arg(long, value_name = "EVERY", allow_negative_numbers = true, value_parser = number)]
     pub snapshots: Option<f64>,
     /// No progress bar (there is none either when stderr is not a terminal).
     #[arg(long)]
@@ -40,7 +40,7 @@ pub struct Args {
     /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
     /// from the last one, and Ctrl-C or SIGTERM writes a last one before stopping. T is in the
     /// scene's time unit, finite and greater than 0. Default: no checkpoints.
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", value_parser = number)]
     pub checkpoint_every: Option<f64>,
     /// Continue the run a checkpoint of this scene holds (`--checkpoint-every`): the outputs
     /// end exactly as those of a run never interrupted. Give the scene and options the run
@@ -85,6 +85,20 @@ const MAX_SNAPSHOTS: f64 = 1e6;
 
 /// Progress steps of a run without snapshots.
 pub const STEPS: usize = 50;
+
+/// A number flag as `f64`, refusing a literal beyond the `f64` range (which parses as
+/// infinity: `--t-end 1e309` was echoed as `--t-end inf`) in the user's own words; `inf` and
+/// `nan` written as such pass, for `check_flags` to refuse.
+fn number(text: &str) -> Result<f64, String> {
+    let x: f64 = text.trim().parse().map_err(|e| format!("{e}"))?;
+    let written = text.to_ascii_lowercase();
+    if x.is_infinite() && !written.contains("inf") {
+        return Err(format!(
+            "{text} is beyond the largest number the run computes with (about 1.8e308)"
+        ));
+    }
+    Ok(x)
+}
 
 /// Refuses flags out of range, before anything is read or written.
 pub fn check_flags(args: &Args) -> Result<(), String> {
