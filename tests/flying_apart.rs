@@ -76,6 +76,13 @@ fn spheres_that_fly_apart_finish_at_once_on_their_lines() {
             );
             assert_eq!(s.velocity, w.velocity);
         }
+        // Twice as fast from t = 10²⁰: new velocities are an event; it parks again, nothing
+        // having happened since then.
+        let faster: Vec<DVec3> = world.spheres.iter().map(|s| s.velocity * 2.0).collect();
+        sim.set_velocities(&faster).unwrap();
+        assert_eq!(sim.flown_apart(), None);
+        bounded(&mut sim, 2.0 * t, 2).unwrap();
+        assert_eq!(sim.flown_apart(), Some(t));
     }
 }
 

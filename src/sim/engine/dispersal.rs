@@ -10,9 +10,8 @@
 //! test costs `n²/2` pairs; it runs after `n²/16` quiet shell events at the least, and each
 //! test that fails doubles the wait, so it adds at most a constant to a shell event's cost.
 
-use wide::f64x4;
-
 use glam::DVec3;
+use wide::f64x4;
 
 use super::{Engine, Responder, SimError};
 use crate::sim::persist::{COUNT_LIMIT, persist_fields};
@@ -22,7 +21,7 @@ use crate::sim::{MAX_MAGNITUDE, OVERLAP_TOLERANCE};
 /// Why the spheres have not flown apart (internal indices).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Meeting {
-    /// A periodic box, or gravity: every sphere meets something again.
+    /// A periodic box, or gravity (paths wrap or bend): not tested.
     NotOpen,
     /// The sphere has a pending pair or static-shape event.
     Event(u32),
@@ -112,13 +111,18 @@ impl<
         }
     }
 
-    /// After new velocities: every shell centred where its sphere is now (the bodies are not
-    /// moved: their positions stay the same bits), the lists built again from them.
+    /// New velocities are an event: the quiet run starts again, and a parked engine wakes,
+    /// every shell centred where its sphere is now (the bodies are not moved: their positions
+    /// stay the same bits) and the lists built again from them.
     pub(super) fn wake(&mut self) {
+        (self.dispersal.quiet, self.dispersal.last_event) = (0, self.now);
         if !self.dispersal.parked {
             return;
         }
-        self.dispersal = Dispersal::new(self.best.len());
+        self.dispersal = Dispersal {
+            last_event: self.now,
+            ..Dispersal::new(self.best.len())
+        };
         self.reach = Vec::new();
         self.recentre_shells();
         self.build_lists();
