@@ -772,7 +772,7 @@ impl<
             let (mut r, v) = if GRAVITY {
                 b.at(self.now, self.m.g)
             } else {
-                (b.r + b.v * (self.now - b.t), b.v)
+                (b.on_line(self.now), b.v)
             };
             if PERIODIC {
                 r = self.cells.wrap(r);

@@ -30,6 +30,13 @@ impl Trajectory {
         let dt = t - self.t;
         (self.r + self.v * dt + g * (0.5 * dt * dt), self.v + g * dt)
     }
+
+    /// Centre at time `t` on the straight line (no gravity): `r + v Δt`, as [`Motion::advance`]
+    /// moves it (without `at`'s `g Δt²/2`, which is `0 · ∞ = NaN` once `Δt²` overflows).
+    #[inline(always)]
+    pub fn on_line(&self, t: f64) -> DVec3 {
+        self.r + self.v * (t - self.t)
+    }
 }
 
 /// Everything a response may change.
@@ -50,7 +57,7 @@ impl Motion {
     #[inline(always)]
     pub fn advance(&mut self, s: u32, now: f64) {
         let b = &mut self.bodies[s as usize];
-        b.r += b.v * (now - b.t);
+        b.r = b.on_line(now);
         b.t = now;
     }
 

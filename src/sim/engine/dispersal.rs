@@ -115,17 +115,16 @@ impl<
     /// every shell centred where its sphere is now (the bodies are not moved: their positions
     /// stay the same bits) and the lists built again from them.
     pub(super) fn wake(&mut self) {
-        (self.dispersal.quiet, self.dispersal.last_event) = (0, self.now);
-        if !self.dispersal.parked {
-            return;
+        let parked = self.dispersal.parked;
+        if parked {
+            self.dispersal = Dispersal::new(self.best.len());
         }
-        self.dispersal = Dispersal {
-            last_event: self.now,
-            ..Dispersal::new(self.best.len())
-        };
-        self.reach = Vec::new();
-        self.recentre_shells();
-        self.build_lists();
+        (self.dispersal.quiet, self.dispersal.last_event) = (0, self.now);
+        if parked {
+            self.reach = Vec::new();
+            self.recentre_shells();
+            self.build_lists();
+        }
     }
 
     /// Since when nothing has met anything, if the spheres have flown apart for good.
@@ -150,7 +149,7 @@ impl<
             .filter(|(_, b)| b.v != DVec3::ZERO)
         {
             let reach = self.reach[k];
-            let r = b.r + b.v * (t - b.t);
+            let r = b.on_line(t);
             let beyond = !r.is_finite() || r.abs().max_element() > reach;
             if first.is_none() && beyond {
                 first = Some(self.id_of[k] as usize);
@@ -179,7 +178,7 @@ impl<
     fn recentre_shells(&mut self) {
         self.cells.clear();
         for (k, b) in self.m.bodies.iter().enumerate() {
-            let r = b.r + b.v * (self.now - b.t);
+            let r = b.on_line(self.now);
             self.lists.centre[k].c = r;
             self.cells.insert(k as u32, self.cells.coords_of(r));
         }
@@ -203,7 +202,7 @@ impl<
             }
         }
         let now: Vec<(DVec3, DVec3, f64)> = (self.m.bodies.iter())
-            .map(|b| (b.r + b.v * (self.now - b.t), b.v, b.radius))
+            .map(|b| (b.on_line(self.now), b.v, b.radius))
             .collect();
         let mut margin = vec![f64::INFINITY; now.len()];
         for (i, &(ri, vi, ai)) in now.iter().enumerate() {
