@@ -24,7 +24,9 @@ pub(crate) struct Trajectory {
 
 impl Trajectory {
     /// Centre and velocity at time `t` under the uniform acceleration `g`: the parabola
-    /// `r + v Δt + g Δt²/2` (a straight line when `g` is zero, to the same bits).
+    /// `r + v Δt + g Δt²/2` (a straight line when `g` is zero, to the same bits while `Δt²` is
+    /// finite: beyond `Δt ≈ 10¹⁵⁴` it is `0 · ∞ = NaN`, so code without gravity calls
+    /// [`on_line`](Self::on_line)).
     #[inline(always)]
     pub fn at(&self, t: f64, g: DVec3) -> (DVec3, DVec3) {
         let dt = t - self.t;

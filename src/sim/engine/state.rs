@@ -181,13 +181,19 @@ impl<
         // so only where it is now. Parked spheres have left their shells (`check_parked`
         // checks them instead).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
-        let now = b.at(self.now, self.m.g).0;
+        let now = if GRAVITY {
+            b.at(self.now, self.m.g).0
+        } else {
+            b.on_line(self.now)
+        };
         let was = if PERIODIC || GRAVITY {
             (b.r - c).length()
         } else {
             0.0
         };
-        let away = was.max((now - c).length());
+        // Not `f64::max`, which drops a NaN.
+        let now = (now - c).length();
+        let away = if was > now { was } else { now };
         if away.is_nan() || (away > limit && !self.dispersal.parked) {
             return Err(bad(format!(
                 "sphere {id}: {away} from its shell centre, beyond the shell's {}",
