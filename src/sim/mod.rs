@@ -33,6 +33,7 @@ mod model;
 pub mod observables;
 mod pages;
 mod persist;
+mod precision;
 mod predict;
 mod queue;
 mod records;
@@ -53,6 +54,7 @@ pub use model::{
     Response, SimError, SphereState, World,
 };
 pub(crate) use model::{OUTSIDE_RANGE, in_range};
+pub use precision::CoarseSphere;
 pub use records::{EventGeometry, EventRecord};
 pub use stats::{KernelCounts, Stats};
 

@@ -450,3 +450,37 @@ fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A pair meeting `10¹²` from the origin: the run warns at the sphere's line before it starts
+/// and its summary marks the overlap at the collision as beyond the tolerance; the same pair
+/// near the origin has neither.
+#[test]
+fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
+    let dir = scratch("far-from-origin");
+    for (name, x, far) in [("far", 1e12, true), ("near", 0.0, false)] {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &scene,
+            format!(
+                "[run]\nt_end = 2\nsnapshot_every = 1\n\n\
+                 [[sphere]]\ncentre = [{x:e}, 0.3, 0]\nradius = 0.5\nvelocity = [1, 0, 0]\n\n\
+                 [[sphere]]\ncentre = [{:e}, 0, 0]\nradius = 0.5\nvelocity = [-1, 0, 0]\n",
+                x + 3.0
+            ),
+        )
+        .unwrap();
+        let o = bin()
+            .arg("run")
+            .arg(&scene)
+            .arg("--out")
+            .arg(dir.join(name))
+            .output()
+            .unwrap();
+        let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
+        assert!(o.status.success(), "{err}");
+        let warning = format!("warning: {}:10: sphere 1: its centre is ", scene.display());
+        assert_eq!(err.contains(&warning), far, "{err}");
+        assert_eq!(text.contains(": beyond the tolerance 2⁻¹⁶"), far, "{text}");
+        assert!(text.contains("collisions   1 pair"), "{text}");
+    }
+}

@@ -58,6 +58,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             from(args.t_end.is_some(), "--t-end", "t_end")
         )
     })?;
+    // Said before the run, which it does not stop (the summary's largest overlap shows it).
+    if let Some(warning) = scene.coarse_sphere(&world) {
+        eprintln!("warning: {warning}");
+    }
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
     let n = world.spheres.len();

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use serde::Serialize;
-use spheresweep::sim::{Boundary, Response, World, observables};
+use spheresweep::sim::{Boundary, OVERLAP_TOLERANCE, Response, World, observables};
 
 use super::outputs::{self, Manifest};
 use super::simulate::Run;
@@ -440,11 +440,18 @@ impl Summary {
             k.sphere, k.plane, k.cylinder, k.container
         )?;
         if c.pair + c.wall > 0 {
+            let beyond = self.max_overlap.max(self.max_wall_overlap) > OVERLAP_TOLERANCE;
             writeln!(
                 out,
                 "max overlap  at collisions: {:.3e} of the contact distance (pairs), {:.3e} of \
-                 the radius (static shapes)",
-                self.max_overlap, self.max_wall_overlap
+                 the radius (static shapes){}",
+                self.max_overlap,
+                self.max_wall_overlap,
+                if beyond {
+                    ": beyond the tolerance 2⁻¹⁶ (docs/run-summary.md)"
+                } else {
+                    ""
+                }
             )?;
         } else {
             writeln!(out, "max overlap  at collisions: none")?;
