@@ -281,7 +281,9 @@ class Simulation:
 
     @staticmethod
     def from_scene_file(path: Union[str, "os.PathLike[str]"]) -> "Simulation":
-        """The simulation of a scene file (TOML, or JSON by extension)."""
+        """The simulation of a scene file (TOML, or JSON by extension); a ``RuntimeWarning``
+        names a sphere so far from the origin that its contacts may overlap past the
+        tolerance."""
     @staticmethod
     def periodic_gas(
         n: int,
@@ -319,7 +321,8 @@ class Simulation:
         ``tc``: the TC model's duration; ``materials``: a material index per sphere, a shape
         may be a ``(shape, material)`` tuple; ``pairs``: ``(a, b, restitution | "elastic" |
         "sticky")`` overrides per pair of materials; ``gravity``: a uniform acceleration
-        (refused with ``periodic_box`` and "sticky")."""
+        (refused with ``periodic_box`` and "sticky"). A ``RuntimeWarning`` names a sphere so
+        far from the origin that its contacts may overlap past the tolerance."""
     def advance_to(
         self,
         t: float,

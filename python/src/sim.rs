@@ -10,7 +10,7 @@ use glam::DVec3;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 use spheresweep::ShapeKind;
@@ -81,6 +81,16 @@ pub struct Simulation {
 pub(crate) fn simulation_bytes(n: usize) -> usize {
     sim::Simulation::estimated_bytes(n)
         .saturating_add(n.saturating_mul(2 * std::mem::size_of::<SphereState>()))
+}
+
+/// A `RuntimeWarning` (the build goes on): a sphere starts where its contacts are resolved only
+/// coarsely (`World::coarse_sphere`).
+fn warn_coarse(py: Python<'_>, warning: Option<String>) -> PyResult<()> {
+    let Some(text) = warning else {
+        return Ok(());
+    };
+    let text = std::ffi::CString::new(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &text, 1)
 }
 
 impl Simulation {
@@ -178,9 +188,10 @@ impl Simulation {
     /// A simulation of the scene file at `path` (TOML, or JSON when the name ends in
     /// `.json`), as `spheresweep run` reads it. `OSError` if it cannot be read; `ValueError`
     /// with the file, line, item and field for anything the file gets wrong; `MemoryError`
-    /// for more spheres than memory holds.
+    /// for more spheres than memory holds; a `RuntimeWarning` (the build goes on) for a sphere
+    /// so far from the origin that its contacts may overlap past the tolerance.
     #[staticmethod]
-    fn from_scene_file(path: PathBuf) -> PyResult<Self> {
+    fn from_scene_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let file = SceneFile::from_path(&path).map_err(scene_file_error)?;
         let text = std::fs::read_to_string(&path).map_err(|source| {
             scene_file_error(SceneFileError::Read {
@@ -194,6 +205,7 @@ impl Simulation {
         let (world, t_end) = scene_file_world(&file)?;
         let sim =
             sim::Simulation::new(world.clone()).map_err(|e| scene_file_error(file.locate(e)))?;
+        warn_coarse(py, file.coarse_sphere(&world))?;
         Ok(Self {
             sim: Mutex::new(sim),
             world,
@@ -269,7 +281,9 @@ impl Simulation {
     ///
     /// `ValueError` for invalid spheres, shapes, materials or pairs, overlaps at the start, a
     /// sphere through a shape, or a box too small (the message names the item); `TypeError`
-    /// for an argument of the wrong type or a shape of another kind.
+    /// for an argument of the wrong type or a shape of another kind; a `RuntimeWarning` (the
+    /// build goes on) for a sphere so far from the origin that its contacts may overlap past
+    /// the tolerance.
     #[staticmethod]
     #[allow(clippy::too_many_arguments)]
     #[pyo3(signature = (centres, velocities, radii, masses = None, *, planes = None,
@@ -353,13 +367,18 @@ impl Simulation {
         kwargs.set_item("geometry", world.effects.geometry)?;
         let materials: Vec<u16> = world.spheres.iter().map(|s| s.material).collect();
         kwargs.set_item("materials", materials.into_pyarray(py))?;
-        Self::new(
+        let coarse = world.coarse_sphere();
+        let sim = Self::new(
             world,
             None,
             Origin::Spheres {
                 kwargs: kwargs.unbind(),
             },
-        )
+        )?;
+        // Once the world is known to be valid.
+        let coarse = coarse.map(|c| format!("centres[{}]: {}", c.sphere, c.problem()));
+        warn_coarse(py, coarse)?;
+        Ok(sim)
     }
 
     /// Processes every collision up to time `t` (inclusive) and moves the clock to `t`, with

@@ -6,6 +6,7 @@ import math
 import pathlib
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -477,3 +478,24 @@ def test_spheres_that_fly_apart_finish_at_once_and_say_when():
     # New velocities wake it (turned towards each other, they would meet again).
     sim.set_velocities(-v)
     assert sim.flown_apart is None
+
+
+def test_spheres_far_from_the_origin_are_warned_of(tmp_path):
+    # At 1e12 a coordinate rounds by 2^-13, past the contact tolerance 2^-16 of a diameter 1:
+    # a RuntimeWarning names the sphere (the array's row, or the scene file's line), and the
+    # build goes on; at the origin there is none.
+    far = np.array([[1e12, 0.3, 0.0], [1e12 + 3.0, 0.0, 0.0]])
+    v = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])
+    with pytest.warns(RuntimeWarning, match=r"centres\[1\]: its centre is 1.000000000003e12"):
+        sim = ss.Simulation.from_spheres(far, v, [0.5, 0.5])
+    sim.advance_to(2.0)
+    scene = tmp_path / "far.toml"
+    scene.write_text(
+        "[run]\nt_end = 2\n\n[[sphere]]\ncentre = [1e12, 0.3, 0]\nradius = 0.5\n\n"
+        "[[sphere]]\ncentre = [1.000000000003e12, 0, 0]\nradius = 0.5\n"
+    )
+    with pytest.warns(RuntimeWarning, match=r"far.toml:8: sphere 1: its centre is"):
+        ss.Simulation.from_scene_file(str(scene))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ss.Simulation.from_spheres(far - [1e12, 0.0, 0.0], v, [0.5, 0.5])

@@ -72,7 +72,8 @@ impl World {
     pub fn coarse_sphere(&self) -> Option<CoarseSphere> {
         let each = self.spheres.iter().enumerate().filter_map(|(sphere, s)| {
             let coordinate = s.centre.abs().max_element();
-            if !(coordinate.is_normal() && s.radius.is_finite()) {
+            // An invalid sphere is `validate`'s to refuse.
+            if !(coordinate.is_normal() && s.radius.is_finite() && s.radius > 0.0) {
                 return None;
             }
             Some(CoarseSphere {
