@@ -83,12 +83,9 @@ pub(crate) fn simulation_bytes(n: usize) -> usize {
         .saturating_add(n.saturating_mul(2 * std::mem::size_of::<SphereState>()))
 }
 
-/// A `RuntimeWarning` (the build goes on): a sphere starts where its contacts are resolved only
-/// coarsely (`World::coarse_sphere`).
-fn warn_coarse(py: Python<'_>, warning: Option<String>) -> PyResult<()> {
-    let Some(text) = warning else {
-        return Ok(());
-    };
+/// A `RuntimeWarning` (the build goes on): something the engine can only approximate, such as
+/// a sphere that starts where its contacts are resolved only coarsely (`World::coarse_sphere`).
+fn warn(py: Python<'_>, text: String) -> PyResult<()> {
     let text = std::ffi::CString::new(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
     PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &text, 1)
 }
@@ -205,7 +202,9 @@ impl Simulation {
         let (world, t_end) = scene_file_world(&file)?;
         let sim =
             sim::Simulation::new(world.clone()).map_err(|e| scene_file_error(file.locate(e)))?;
-        warn_coarse(py, file.coarse_sphere(&world))?;
+        for warning in file.warnings(&world) {
+            warn(py, warning)?;
+        }
         Ok(Self {
             sim: Mutex::new(sim),
             world,
@@ -376,8 +375,9 @@ impl Simulation {
             },
         )?;
         // Once the world is known to be valid.
-        let coarse = coarse.map(|c| format!("centres[{}]: {}", c.sphere, c.problem()));
-        warn_coarse(py, coarse)?;
+        if let Some(c) = coarse {
+            warn(py, format!("centres[{}]: {}", c.sphere, c.problem()))?;
+        }
         Ok(sim)
     }
 

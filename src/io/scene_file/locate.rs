@@ -6,7 +6,7 @@ use glam::DVec3;
 use super::schema::Origin;
 use super::{SceneFile, SceneFileError};
 use crate::error::ShapeError;
-use crate::sim::{SimError, World};
+use crate::sim::SimError;
 
 /// One step of a path into the file: a key or an array index.
 #[derive(Debug, Clone, Copy)]
@@ -136,31 +136,6 @@ impl SceneFile {
             start += n;
         }
         (format!("sphere {index}"), Vec::new())
-    }
-
-    /// A warning for the sphere of `world` (the one [`build`](Self::build) made) that starts
-    /// where its contacts are resolved only coarsely ([`World::coarse_sphere`]), at its
-    /// entry's line.
-    ///
-    /// ```
-    /// use spheresweep::io::scene_file::SceneFile;
-    /// let text = "[run]\nt_end = 1\n[[sphere]]\ncentre = [1e12, 0, 0]\nradius = 0.5\n";
-    /// let scene = SceneFile::from_toml_str(text)?;
-    /// let (world, _) = scene.build()?;
-    /// let warning = scene.coarse_sphere(&world).unwrap();
-    /// assert!(warning.starts_with("line 3: sphere 0: its centre is 1e12 from"), "{warning}");
-    /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
-    /// ```
-    pub fn coarse_sphere(&self, world: &World) -> Option<String> {
-        let coarse = world.coarse_sphere()?;
-        let (item, path) = self.sphere_item(coarse.sphere);
-        let at = match (&self.origin.file, self.origin.line(&path)) {
-            (Some(p), Some(l)) => format!("{}:{l}: ", p.display()),
-            (Some(p), None) => format!("{}: ", p.display()),
-            (None, Some(l)) => format!("line {l}: "),
-            (None, None) => String::new(),
-        };
-        Some(format!("{at}{item}: {}", coarse.problem()))
     }
 
     /// Names the items of the file behind an error of

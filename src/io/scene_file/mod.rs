@@ -54,6 +54,7 @@ mod place;
 mod schema;
 #[cfg(test)]
 mod tests;
+mod warnings;
 
 pub use error::SceneFileError;
 pub use schema::{

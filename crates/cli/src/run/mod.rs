@@ -59,7 +59,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         )
     })?;
     // Said before the run, which it does not stop (the summary's largest overlap shows it).
-    if let Some(warning) = scene.coarse_sphere(&world) {
+    for warning in scene.warnings(&world) {
         eprintln!("warning: {warning}");
     }
     let about = summary::About::of(&args.scene, &world);
