@@ -483,4 +483,75 @@ fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
         assert_eq!(text.contains(": beyond the tolerance 2⁻¹⁶"), far, "{text}");
         assert!(text.contains("collisions   1 pair"), "{text}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Two spheres side by side flying together, asked to go to `10²⁰`: past their reach (about
+/// `5.6·10¹⁴`, where their positions would round by a good part of their gap) the run stops
+/// short, but keeps what it computed: a last frame at the reach, with the spheres on their
+/// lines and still apart, the summary saying why, and an error exit naming the reach.
+#[test]
+fn a_parked_run_stopped_at_its_reach_keeps_its_outputs() {
+    let dir = scratch("stopped-short");
+    let scene = dir.join("together.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1e20\nsnapshot_every = 1e19\n\n[effects]\nrecord_events = true\n\n\
+         [[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\nvelocity = [1, 0, 0]\n\n\
+         [[sphere]]\ncentre = [0, 1.5, 0]\nradius = 0.5\nvelocity = [1, 0, 0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = bin()
+        .arg("run")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
+    assert!(!o.status.success(), "{text}");
+    assert!(
+        err.contains("the run went on to t = ") && err.contains("and stopped there"),
+        "{err}"
+    );
+    assert!(
+        text.contains("stopped      short of the end asked for: "),
+        "{text}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let reach = summary["t_end"].as_f64().unwrap();
+    let margin = 0.5 + 1.0 / 65536.0;
+    assert!(
+        reach <= 2f64.powi(50) * margin && reach > 2f64.powi(50) * margin * (1.0 - 1e-12),
+        "{reach}"
+    );
+    assert!(summary["stopped_short"].as_str().is_some(), "{summary}");
+    assert!(out.join("events.csv").exists() && !out.join("checkpoint.bin").exists());
+    // The frames, read here: t = 0 and the reach, the last with both spheres on their lines.
+    let xyz = std::fs::read_to_string(out.join("trajectory.xyz")).unwrap();
+    let lines: Vec<&str> = xyz.lines().collect();
+    assert_eq!(lines.len(), 8, "two frames of two spheres");
+    let time: f64 = lines[5]
+        .split("Time=")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(time, reach, "{}", lines[5]);
+    let at = |l: &str| -> Vec<f64> {
+        l.split_whitespace()
+            .skip(1)
+            .take(3)
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    let (a, b) = (at(lines[6]), at(lines[7]));
+    assert_eq!(a, [reach, 0.0, 0.0]);
+    assert_eq!(b, [reach, 1.5, 0.0]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

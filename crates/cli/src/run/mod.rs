@@ -79,6 +79,10 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         }
     };
     if let Err(e) = run.advance(args.quiet) {
+        if e.is::<simulate::StoppedShort>() {
+            summary::finish(run, &about)?;
+            return Err(e);
+        }
         if !e.is::<crate::interrupt::Interrupted>() {
             run.abandon();
         }

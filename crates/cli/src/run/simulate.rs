@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 use spheresweep::io::xyz;
-use spheresweep::sim::{Boundary, Simulation, Stats};
+use spheresweep::sim::{Boundary, SimError, Simulation, Stats};
 
 use super::checkpoint::{Counters, Progress, RunCheckpoint};
 use super::events;
@@ -18,6 +18,27 @@ use super::options::Settings;
 use super::outputs::{self, OutDir};
 use super::staged::Staged;
 use crate::number::num;
+
+/// A run that stopped short of its end, its outputs kept ([`Run::stop_short`]): an error, as
+/// the end asked for was not reached.
+#[derive(Debug)]
+pub struct StoppedShort {
+    reason: String,
+    at: f64,
+}
+
+impl std::fmt::Display for StoppedShort {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}; the run went on to t = {} and stopped there, its outputs written",
+            self.reason,
+            num(self.at)
+        )
+    }
+}
+
+impl Error for StoppedShort {}
 
 /// A run under way.
 pub struct Run {
@@ -33,6 +54,8 @@ pub struct Run {
     /// The bytes the outputs may take, and at most how many an event row takes.
     pub budget: Budget,
     event_bound: u64,
+    /// Why the run stopped short of its end, if it did ([`Run::stop_short`]).
+    pub stopped_short: Option<String>,
 }
 
 /// Where a run is: its scene file, its output directory, its periodic box (if any).
@@ -85,6 +108,7 @@ impl Run {
             event_bound: limits::event_bound(settings.geometry),
             place,
             checkpoints: 0,
+            stopped_short: None,
         };
         if let Some(f) = run.events.as_mut() {
             let header = events::header(settings.geometry);
@@ -116,6 +140,7 @@ impl Run {
             event_bound: limits::event_bound(c.settings.geometry),
             place,
             checkpoints: 0,
+            stopped_short: None,
         })
     }
 
@@ -139,11 +164,19 @@ impl Run {
             let collisions = |s: &Stats| s.pair_collisions + s.wall_collisions;
             let before = collisions(self.sim.stats());
             let mut over = false;
-            let finished = self.sim.advance_with(stop, &mut |t, s| {
+            let advanced = self.sim.advance_with(stop, &mut |t, s| {
                 over = written + (collisions(s) - before) * per_event > max;
                 !over && bar.show(t, s) && !crate::interrupt::requested()
-            })? && !crate::interrupt::requested();
+            });
             self.counters.simulated += start.elapsed().as_secs_f64();
+            let finished = match advanced {
+                Ok(done) => done && !crate::interrupt::requested(),
+                Err(e @ SimError::Flown { reachable, .. }) => {
+                    bar.finish();
+                    return Err(self.stop_short(reachable, e)?.into());
+                }
+                Err(e) => return Err(e.into()),
+            };
             bar.show(self.sim.time(), self.sim.stats());
             self.log_events()?;
             self.within_budget(over)?;
@@ -166,6 +199,25 @@ impl Run {
         }
         bar.finish();
         Ok(())
+    }
+
+    /// A parked run refused to fly past its spheres' reach (`SimError::Flown`): it goes on to
+    /// `reachable`, writes its events and a last frame there, and is then finished short of
+    /// `t_end` (the summary says so), so that nothing it computed is lost.
+    fn stop_short(&mut self, reachable: f64, refused: SimError) -> Result<StoppedShort, String> {
+        self.sim
+            .advance_to(reachable)
+            .map_err(|e| format!("{refused}; and then going on to t = {reachable}: {e}"))?;
+        self.log_events()?;
+        self.within_budget(false)?;
+        self.snapshot()?;
+        self.within_budget(false)?;
+        let reason = refused.to_string();
+        self.stopped_short = Some(reason.clone());
+        Ok(StoppedShort {
+            reason,
+            at: reachable,
+        })
     }
 
     /// Bytes the outputs have taken so far.

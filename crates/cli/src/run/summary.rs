@@ -99,6 +99,9 @@ pub struct Summary {
     static_shapes: usize,
     /// The time the run ended at.
     t_end: f64,
+    /// Why the run stopped at `t_end` short of the end it was asked for (a parked run refused to
+    /// fly its spheres past their reach); `null` when it reached it.
+    stopped_short: Option<String>,
     /// In an open scene whose spheres have flown apart for good, the time of the last thing
     /// that happened (a collision, or the start).
     flown_apart: Option<f64>,
@@ -249,6 +252,7 @@ impl Summary {
             spheres: about.spheres,
             static_shapes: about.walls,
             t_end: sim.time(),
+            stopped_short: run.stopped_short.clone(),
             flown_apart: sim.flown_apart(),
             wall_seconds: c.simulated,
             collisions: Collisions {
@@ -370,6 +374,9 @@ impl Summary {
             num(self.t_end),
             self.wall_seconds
         )?;
+        if let Some(why) = &self.stopped_short {
+            writeln!(out, "stopped      short of the end asked for: {why}")?;
+        }
         if let Some(t) = self.flown_apart {
             writeln!(
                 out,
@@ -538,6 +545,7 @@ mod tests {
             spheres: 2,
             static_shapes: 0,
             t_end: 1.0,
+            stopped_short: Some("refused".into()),
             flown_apart: Some(0.5),
             wall_seconds: 0.5,
             collisions: Collisions {
