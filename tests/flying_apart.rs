@@ -161,12 +161,13 @@ fn a_parked_run_checkpoints_and_wakes() {
     assert_eq!(back.stats().pair_collisions, 1);
 
     // The parked flag forged into a checkpoint of a run that is not parked (its byte follows
-    // the quiet count and the wait; the parking time and the checksum come after it).
+    // the quiet count and the wait; the parking time, the event log's flag and the checksum
+    // come after it).
     let mut early = Simulation::new(world.clone()).unwrap();
     early.advance_to(0.1).unwrap();
     let mut bytes = early.checkpoint();
     let body = bytes.len() - 8;
-    bytes[body - 9] = 1;
+    bytes[body - 10] = 1;
     let sum = bytes[..body]
         .iter()
         .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {

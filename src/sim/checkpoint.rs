@@ -1,6 +1,7 @@
 //! Checkpoints: a running simulation's whole dynamic state as bytes, and back. The engine is
 //! deterministic and its calendar pops in exact `(time, sphere)` order, so each sphere's state
-//! and pending event, the counters and the response's state are enough: a run restored from a
+//! and pending event, the counters, the event records not yet taken and the response's state
+//! are enough: a run restored from a
 //! checkpoint continues bit for bit as the run that wrote it (tested in `sim::tests`).
 //!
 //! The format is little-endian: the magic `SSCK`, a format version, a fingerprint of the world
@@ -12,7 +13,7 @@ use super::model::SimError;
 use super::{Simulation, World};
 
 /// Format version; bump when the layout changes.
-pub(crate) const VERSION: u32 = 5;
+pub(crate) const VERSION: u32 = 6;
 pub(crate) const MAGIC: &[u8; 4] = b"SSCK";
 
 /// Appends values to a byte buffer.
@@ -131,8 +132,9 @@ pub(crate) fn fingerprint(text: &str) -> u64 {
 impl Simulation {
     /// The whole dynamic state as bytes: restored with [`restore`](Self::restore) into the same
     /// world, the run continues bit for bit as this one would. Take it between
-    /// [`advance_with`](Self::advance_with) calls (or when one stops early); unread event
-    /// records are not part of it.
+    /// [`advance_with`](Self::advance_with) calls (or when one stops early); the event records
+    /// not yet taken are part of it ([`take_events`](Self::take_events) gives them after a
+    /// restore, unless the world restored into records none).
     ///
     /// ```
     /// # use glam::DVec3;

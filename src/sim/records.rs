@@ -2,7 +2,11 @@
 
 use glam::DVec3;
 
+use super::checkpoint::{Decoder, Encoder};
+use super::model::SimError;
+use super::persist::{Persist, persist_fields};
 use super::response::Outcome;
+use crate::ShapeKind;
 use crate::contact::Body;
 
 /// Contact point and normal of an event.
@@ -106,5 +110,82 @@ impl EventRecord {
             energy_lost: o.energy_lost,
             geometry: g.map(|(point, normal)| EventGeometry { point, normal }),
         }
+    }
+}
+
+persist_fields!(EventGeometry { point, normal });
+persist_fields!(EventRecord {
+    time,
+    sphere,
+    other,
+    approach,
+    restitution,
+    energy_lost,
+    geometry,
+});
+
+/// Whether there is one, then it.
+impl Persist for Option<EventGeometry> {
+    fn save(&self, e: &mut Encoder) {
+        e.u8(u8::from(self.is_some()));
+        if let Some(g) = self {
+            g.save(e);
+        }
+    }
+    fn load(&mut self, d: &mut Decoder) -> Result<(), SimError> {
+        *self = match d.u8()? {
+            0 => None,
+            _ => {
+                let mut g = EventGeometry {
+                    point: DVec3::ZERO,
+                    normal: DVec3::ZERO,
+                };
+                g.load(d)?;
+                Some(g)
+            }
+        };
+        Ok(())
+    }
+}
+
+/// The events recorded and not yet taken: whether there is a log, their count, then each, so
+/// that a restored simulation gives them to `take_events` as the saved one would have. What is
+/// recorded is not the world (its fingerprint): restored into a world that records no events,
+/// they are dropped; a world that records them from a checkpoint without starts with none.
+impl Persist for Option<Vec<EventRecord>> {
+    fn save(&self, e: &mut Encoder) {
+        e.u8(u8::from(self.is_some()));
+        if let Some(log) = self {
+            e.len(log.len());
+            for r in log {
+                r.save(e);
+            }
+        }
+    }
+    fn load(&mut self, d: &mut Decoder) -> Result<(), SimError> {
+        let mut events = Vec::new();
+        if d.u8()? != 0 {
+            // Time, sphere, body (kind and index), three figures and the geometry's flag: 42
+            // bytes at least.
+            let n = d.len(42, "event log")?;
+            events.reserve(n);
+            for _ in 0..n {
+                let mut r = EventRecord {
+                    time: 0.0,
+                    sphere: 0,
+                    other: Body::new(ShapeKind::Sphere, 0),
+                    approach: 0.0,
+                    restitution: 0.0,
+                    energy_lost: 0.0,
+                    geometry: None,
+                };
+                r.load(d)?;
+                events.push(r);
+            }
+        }
+        if let Some(log) = self {
+            *log = events;
+        }
+        Ok(())
     }
 }

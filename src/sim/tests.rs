@@ -148,11 +148,23 @@ fn checkpoints_resume_bit_for_bit() {
         },
         ..gas.clone()
     };
-    let mut b = Simulation::restore(recording, &a.checkpoint()).unwrap();
+    let mut b = Simulation::restore(recording.clone(), &a.checkpoint()).unwrap();
     a.advance_to(1.0).unwrap();
     b.advance_to(1.0).unwrap();
     assert_eq!(a.spheres(), b.spheres());
     assert!(!b.take_events().is_empty());
+    // Events recorded and not yet taken travel with the checkpoint (geometry and all), and
+    // are dropped by a world that records none.
+    let mut a = Simulation::new(recording.clone()).unwrap();
+    a.advance_to(0.5).unwrap();
+    let saved = a.checkpoint();
+    let mut b = Simulation::restore(recording.clone(), &saved).unwrap();
+    assert!(b.checkpoint() == saved, "load then save is the identity");
+    let pending = a.take_events();
+    assert!(pending.len() > 10 && pending.iter().all(|e| e.geometry.is_some()));
+    assert_eq!(b.take_events(), pending);
+    let mut quiet = Simulation::restore(gas.clone(), &saved).unwrap();
+    assert!(quiet.take_events().is_empty());
     // Another world (gravity differs, or one radius) is refused by its fingerprint.
     let mut a = Simulation::new(falling.clone()).unwrap();
     a.advance_to(0.2).unwrap();

@@ -1,8 +1,8 @@
 //! The engine's part of a checkpoint, listed once (`engine_state!`) and read by both `save`
 //! and `load`; each value's own layout is its [`Persist`] description. `load` then checks what
 //! depends on the world (indices, the grid, the radii) and rebuilds what is derived (the
-//! cells' contents, the calendar). The layout is format version 5 (`sim::checkpoint`; 4 added
-//! `Best::beyond`, 5 the dispersal state).
+//! cells' contents, the calendar). The layout is format version 6 (`sim::checkpoint`; 4 added
+//! `Best::beyond`, 5 the dispersal state, 6 the event records not yet taken).
 
 use super::dispersal::Meeting;
 use super::{Best, Candidate, Engine};
@@ -54,6 +54,7 @@ macro_rules! engine_state {
         $each!($engine.width);
         $each!($engine.stats);
         $each!($engine.dispersal);
+        $each!($engine.log);
     };
 }
 
@@ -101,6 +102,14 @@ impl<
             engine_state!(engine, each);
         }
         self.check_bodies(&radii)?;
+        if let Some(log) = &self.log
+            && let Some(r) = log.iter().find(|r| r.sphere as usize >= radii.len())
+        {
+            return Err(bad(format!(
+                "an event of sphere {}, which does not exist",
+                r.sphere
+            )));
+        }
         for k in 0..self.best.len() {
             self.check_sphere(k)?;
         }
@@ -261,8 +270,8 @@ impl<
     }
 
     /// What a checkpoint does not hold, rebuilt from the loaded state and the world: masses and
-    /// materials in internal order, the cells' contents, the neighbour lists, an empty log and
-    /// a fresh calendar.
+    /// materials in internal order, the cells' contents, the neighbour lists and a fresh
+    /// calendar (the log of events not yet taken is the checkpoint's).
     fn rebuild(&mut self, masses: &[f64], materials: &[u16]) {
         let n = self.m.bodies.len();
         self.m.mass = self.id_of.iter().map(|&id| masses[id as usize]).collect();
@@ -278,9 +287,6 @@ impl<
             self.cells.insert(k as u32, c);
         }
         self.build_lists();
-        if let Some(log) = &mut self.log {
-            log.clear();
-        }
         self.responder
             .set_time_scale(self.width * n.max(1) as f64 / 2.0);
         self.reschedule();
