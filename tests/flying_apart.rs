@@ -252,8 +252,9 @@ fn a_free_flight_far_from_the_origin_stays_on_its_line() {
 }
 
 /// A parked scene at rest checkpointed at `t = 10²⁰⁰` restores and goes on: its spheres are
-/// where they started (the checkpoint's shell check once moved them with the parabola's
-/// `g Δt²/2`, which is `0 · ∞ = NaN` once `Δt²` overflows, and refused the checkpoint).
+/// where they started. The checkpoint's shell check moved them with the parabola's `g Δt²/2`,
+/// which is `0 · ∞ = NaN` once `Δt²` overflows, and `f64::max` then dropped the NaN, so the
+/// check checked nothing; with the NaN kept, the parabola refuses this checkpoint.
 #[test]
 fn a_scene_at_rest_checkpoints_at_any_time() {
     let world = World {

@@ -283,7 +283,8 @@ class Simulation:
     def from_scene_file(path: Union[str, "os.PathLike[str]"]) -> "Simulation":
         """The simulation of a scene file (TOML, or JSON by extension); a ``RuntimeWarning``
         names a sphere so far from the origin that its contacts may overlap past the
-        tolerance."""
+        tolerance, or a shape its rounding to float32 moves by more than 2⁻¹⁰ of the smallest
+        radius."""
     @staticmethod
     def periodic_gas(
         n: int,

@@ -186,7 +186,8 @@ impl Simulation {
     /// `.json`), as `spheresweep run` reads it. `OSError` if it cannot be read; `ValueError`
     /// with the file, line, item and field for anything the file gets wrong; `MemoryError`
     /// for more spheres than memory holds; a `RuntimeWarning` (the build goes on) for a sphere
-    /// so far from the origin that its contacts may overlap past the tolerance.
+    /// so far from the origin that its contacts may overlap past the tolerance, or a shape its
+    /// rounding to `f32` moves by more than `2⁻¹⁰` of the smallest radius.
     #[staticmethod]
     fn from_scene_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let file = SceneFile::from_path(&path).map_err(scene_file_error)?;

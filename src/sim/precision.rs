@@ -3,18 +3,23 @@
 //! scene is within the engine's range (docs/derivations/simulation.md, "Contacts far from the
 //! origin").
 
-use super::{OVERLAP_TOLERANCE, World};
+use super::{Boundary, OVERLAP_TOLERANCE, World};
+use crate::error::Num;
 
 /// A sphere whose centre rounds by more than the tolerance of a contact with a sphere of its
 /// own size ([`World::coarse_sphere`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct CoarseSphere {
     /// The sphere (its index in [`World::spheres`]).
     pub sphere: usize,
-    /// Its largest coordinate in magnitude.
+    /// How many other spheres are coarse too.
+    pub others: usize,
+    /// The largest coordinate its centre has (in a periodic box: the box's largest length,
+    /// which it roams).
     pub coordinate: f64,
-    /// How far apart two centres there may be computed from where they are: `√3` ulps of
-    /// `coordinate` (half an ulp on each axis of each centre).
+    /// How far off the distance of two centres there may be: `√3` ulps of `coordinate` (half
+    /// an ulp on each axis of each centre).
     pub rounding: f64,
     /// The overlap a contact with a sphere of its size may have: `2⁻¹⁶` of its diameter.
     pub tolerance: f64,
@@ -24,12 +29,19 @@ impl CoarseSphere {
     /// What is coarse and what follows, without the sphere's name (a scene file names its
     /// entry instead).
     pub fn problem(&self) -> String {
+        let others = match self.others {
+            0 => String::new(),
+            1 => " (and 1 other sphere)".into(),
+            n => format!(" (and {n} other spheres)"),
+        };
         format!(
-            "its centre is {:e} from the origin on an axis, where two centres can be computed \
-             {:.3e} off, beyond its contacts' tolerance {:.3e} (2⁻¹⁶ of its diameter): its \
-             contacts may overlap by about that much (units or an origin nearer the scene \
-             resolve them)",
-            self.coordinate, self.rounding, self.tolerance
+            "its coordinate {} rounds so that two centres' distance is off by up to {:.2e}, \
+             more than the contact tolerance {:.2e} (2⁻¹⁶ of its diameter){others}: its \
+             collisions may overlap by that much; move the scene nearer the origin or use \
+             larger length units",
+            Num(self.coordinate),
+            self.rounding,
+            self.tolerance
         )
     }
 }
@@ -46,11 +58,10 @@ fn ulp(x: f64) -> f64 {
 }
 
 impl World {
-    /// The sphere whose centre rounds coarsest against its own contacts' tolerance, if that
-    /// rounding is beyond it: `√3 ulp(max |xₖ|) > 2⁻¹⁶ · 2 radius`. `None` for every scene
-    /// whose spheres start within `2³⁶` radii of the origin on every axis. Only the start is checked:
-    /// a sphere that flies that far later is not (the run's largest overlap at collisions,
-    /// [`Stats::max_overlap`](super::Stats::max_overlap), shows it).
+    /// The first sphere whose centre rounds coarsest against its contacts' tolerance, if that
+    /// is beyond it: `√3 ulp(max |xₖ|) > 2⁻¹⁶ · 2 radius` (in a periodic box, the box's
+    /// largest length for `max |xₖ|`). Never for a sphere within `2³⁶` radii of the origin on
+    /// every axis; only the start is checked (the summary's largest overlap shows the rest).
     ///
     /// ```
     /// use glam::DVec3;
@@ -70,32 +81,106 @@ impl World {
     /// assert!(far.sphere == 0 && far.rounding > far.tolerance);
     /// ```
     pub fn coarse_sphere(&self) -> Option<CoarseSphere> {
+        let roams = match self.boundary {
+            Boundary::Periodic { size } => Some(size.abs().max_element()),
+            _ => None,
+        };
         let each = self.spheres.iter().enumerate().filter_map(|(sphere, s)| {
-            let coordinate = s.centre.abs().max_element();
+            let coordinate = roams.unwrap_or(s.centre.abs().max_element());
             // An invalid sphere is `validate`'s to refuse.
             if !(coordinate.is_normal() && s.radius.is_finite() && s.radius > 0.0) {
                 return None;
             }
             Some(CoarseSphere {
                 sphere,
+                others: 0,
                 coordinate,
                 rounding: 3f64.sqrt() * ulp(coordinate),
                 tolerance: OVERLAP_TOLERANCE * 2.0 * s.radius,
             })
         });
-        each.filter(|c| c.rounding > c.tolerance)
-            .max_by(|a, b| (a.rounding / a.tolerance).total_cmp(&(b.rounding / b.tolerance)))
+        let mut worst: Option<CoarseSphere> = None;
+        let mut count = 0;
+        for c in each.filter(|c| c.rounding > c.tolerance) {
+            count += 1;
+            let ratio = |c: &CoarseSphere| c.rounding / c.tolerance;
+            if worst.is_none_or(|w| ratio(&c) > ratio(&w)) {
+                worst = Some(c);
+            }
+        }
+        worst.map(|w| CoarseSphere {
+            others: count - 1,
+            ..w
+        })
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::ulp;
+    use crate::sim::{Boundary, SphereState, World};
 
     #[test]
     fn ulp_is_the_spacing_of_the_doubles_there() {
         for x in [1.0, 1.5, 1e12, 2f64.powi(37), 3e-300, 1.7e308] {
             assert_eq!(ulp(x), x.next_up() - x, "{x}");
         }
+    }
+
+    fn spheres(at: &[(f64, f64)]) -> World {
+        World {
+            spheres: at
+                .iter()
+                .map(|&(x, radius)| SphereState {
+                    centre: DVec3::new(0.0, -x, 0.0),
+                    velocity: DVec3::ZERO,
+                    radius,
+                    mass: 1.0,
+                    material: 0,
+                })
+                .collect(),
+            ..World::default()
+        }
+    }
+
+    /// The threshold to the bit: coarse from the first power of two above `2³⁷ ρ / √3`
+    /// (`2³⁶` at `ρ = 1/2`, `2³⁸` at `ρ = √3`), not an ulp below it.
+    #[test]
+    fn coarse_from_the_power_of_two_where_root_three_ulps_pass_the_tolerance() {
+        for (radius, first) in [(0.5, 2f64.powi(36)), (3f64.sqrt(), 2f64.powi(38))] {
+            assert!(spheres(&[(first, radius)]).coarse_sphere().is_some());
+            assert!(
+                spheres(&[(first.next_down(), radius)])
+                    .coarse_sphere()
+                    .is_none()
+            );
+        }
+    }
+
+    /// The coarsest is named, the first of equals, with how many others are coarse; in a
+    /// periodic box the box's length counts, not where a sphere starts.
+    #[test]
+    fn the_coarsest_first_and_the_others_counted() {
+        let w = spheres(&[
+            (1.0, 0.5),
+            (1e12, 0.5),
+            (1e12, 0.25),
+            (1e12, 0.25),
+            (1e13, 1e3),
+        ]);
+        let c = w.coarse_sphere().unwrap();
+        assert_eq!((c.sphere, c.others), (2, 2));
+        let mut boxed = spheres(&[(1.0, 0.5), (2.0, 0.25)]);
+        boxed.boundary = Boundary::Periodic {
+            size: DVec3::splat(1e12),
+        };
+        assert_eq!(boxed.coarse_sphere().map(|c| c.sphere), Some(1));
+        let mut small = spheres(&[(1e12, 0.5)]);
+        small.boundary = Boundary::Periodic {
+            size: DVec3::splat(10.0),
+        };
+        assert_eq!(small.coarse_sphere(), None);
     }
 }

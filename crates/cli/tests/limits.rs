@@ -451,7 +451,7 @@ fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A pair meeting `10¹²` from the origin: the run warns at the sphere's line before it starts
+/// A pair meeting `10¹²` from the origin: the run warns at the first sphere's line before it starts
 /// and its summary marks the overlap at the collision as beyond the tolerance; the same pair
 /// near the origin has neither.
 #[test]
@@ -478,7 +478,10 @@ fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
             .unwrap();
         let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
         assert!(o.status.success(), "{err}");
-        let warning = format!("warning: {}:10: sphere 1: its centre is ", scene.display());
+        let warning = format!(
+            "warning: {}:5: sphere 0: its coordinate 1e12 ",
+            scene.display()
+        );
         assert_eq!(err.contains(&warning), far, "{err}");
         assert_eq!(text.contains(": beyond the tolerance 2⁻¹⁶"), far, "{text}");
         assert!(text.contains("collisions   1 pair"), "{text}");

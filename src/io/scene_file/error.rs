@@ -75,13 +75,8 @@ pub enum SceneFileError {
 
 impl fmt::Display for SceneFileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let at = |f: &mut fmt::Formatter<'_>, file: &Option<PathBuf>, line: &Option<usize>| match (
-            file, line,
-        ) {
-            (Some(p), Some(l)) => write!(f, "{}:{l}: ", p.display()),
-            (Some(p), None) => write!(f, "{}: ", p.display()),
-            (None, Some(l)) => write!(f, "line {l}: "),
-            (None, None) => Ok(()),
+        let at = |f: &mut fmt::Formatter<'_>, file: &Option<PathBuf>, line: &Option<usize>| {
+            f.write_str(&location(file.as_deref(), *line))
         };
         match self {
             SceneFileError::Read { path, source } => {
@@ -130,5 +125,16 @@ impl std::error::Error for SceneFileError {
             SceneFileError::Shape { source, .. } => Some(source),
             _ => None,
         }
+    }
+}
+
+/// `FILE:LINE: `, `FILE: `, `line LINE: ` or nothing: where an item of a scene file is, as its
+/// errors and warnings begin.
+pub(super) fn location(file: Option<&std::path::Path>, line: Option<usize>) -> String {
+    match (file, line) {
+        (Some(p), Some(l)) => format!("{}:{l}: ", p.display()),
+        (Some(p), None) => format!("{}: ", p.display()),
+        (None, Some(l)) => format!("line {l}: "),
+        (None, None) => String::new(),
     }
 }

@@ -398,58 +398,80 @@ fn files_are_named_in_messages() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// The warnings of a scene: a shape moved by its `f32` rounding across its surface by more
-/// than `2⁻¹⁰` of the smallest radius, at the field's line; a move along a plane or along a
-/// cylinder's axis is not one; a sphere far from the origin.
+/// A shape moved by its `f32` rounding by more than `2⁻¹⁰` of the smallest radius where the
+/// scene is, named at its entry's line; a move along a plane or along a cylinder's axis is not
+/// one, a tilt is (it grows with the scene's extent).
 #[test]
 fn shapes_that_rounding_moves_are_warned_of_at_their_line() {
+    let warnings = |text: &str| {
+        let file = SceneFile::from_toml_str(text).unwrap();
+        let (world, _) = file.build().unwrap();
+        file.warnings(&world)
+    };
     let scene = |radius: f64| {
-        let text = format!(
+        warnings(&format!(
             "[run]\nt_end = 1\n\
              [[sphere]]\ncentre = [0, 0, 5]\nradius = {radius}\n\
              [[plane]]\npoint = [100000000.3, 0, -100000000.3]\nnormal = [0, 0, 1]\n\
              [[cylinder]]\np1 = [100000000.3, 3, 0]\np2 = [0, 3, 0]\nradius = 0.5\n\
              [[container]]\ncentre = [0, 0, 0]\nradius = 1000.1\n"
-        );
-        let file = SceneFile::from_toml_str(&text).unwrap();
-        let (world, _) = file.build().unwrap();
-        file.warnings(&world)
+        ))
     };
     // The plane's point moves 0.3 along its normal (z); the cylinder's p1 only along its axis
     // (x); the container's radius by 2.4e-5, under 2⁻¹⁰ · 0.5.
     let w = scene(0.5);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(
-        w[0].starts_with("line 7: plane 0: its point is stored as f32")
-            && w[0].contains("3.000e-1"),
+        w[0].starts_with("line 6: plane 0: stored in f32") && w[0].contains("3.00e-1"),
         "{w:?}"
     );
     // With a smaller sphere the container's radius moves by more than 2⁻¹⁰ of it.
     let w = scene(0.01);
     assert_eq!(w.len(), 2, "{w:?}");
+    assert!(w[1].starts_with("line 13: container 0: stored"), "{w:?}");
+    // A pillar moved across its axis.
+    let pillar = "[[cylinder]]\np1 = [0, 100000000.3, 0]\np2 = [0, 100000000.3, 1]\nradius = 0.5\n";
+    let w = warnings(&format!(
+        "[run]\nt_end = 1\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\n{pillar}"
+    ));
     assert!(
-        w[1].starts_with("line 15: container 0: its radius"),
+        w.len() == 1 && w[0].starts_with("line 6: cylinder 0: stored"),
         "{w:?}"
     );
-    // A pillar moved across its axis: both ends.
-    let text = "[run]\nt_end = 1\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\n\
-        [[cylinder]]\np1 = [0, 100000000.3, 0]\np2 = [0, 100000000.3, 1]\nradius = 0.5\n";
-    let file = SceneFile::from_toml_str(text).unwrap();
-    let (world, _) = file.build().unwrap();
-    let w = file.warnings(&world);
+    // A tilted axis whose ends round by 1.2e-5 and 2.4e-5 (under 2⁻¹⁰ · 0.5 = 4.9e-4): its
+    // tilt moves it 3.4e-4 at 10 along it, 7e-3 at 200: said when the scene reaches 200.
+    let tilted = "[[cylinder]]\np1 = [1000.1, 0, 0]\np2 = [1000.2, 0, 1]\nradius = 0.5\n";
+    for (far, said) in [(5.0, false), (200.0, true)] {
+        let w = warnings(&format!(
+            "[run]\nt_end = 1\n[[sphere]]\ncentre = [1000, 0, {far}]\nradius = 0.5\n{tilted}"
+        ));
+        assert_eq!(w.len(), usize::from(said), "{far}: {w:?}");
+    }
+}
+
+/// A sphere far from the origin is named at its entry's line; a generated one by its block
+/// and its index in it.
+#[test]
+fn spheres_far_from_the_origin_are_warned_of_at_their_entry() {
+    let warnings = |text: &str| {
+        let file = SceneFile::from_toml_str(text).unwrap();
+        let (world, _) = file.build().unwrap();
+        file.warnings(&world)
+    };
+    let w = warnings("[run]\nt_end = 1\n[[sphere]]\ncentre = [0, -1e12, 0]\nradius = 0.5\n");
     assert!(
-        w.len() == 2
-            && w[0].starts_with("line 7: cylinder 0: its p1")
-            && w[1].starts_with("line 8: cylinder 0: its p2"),
+        w.len() == 1 && w[0].starts_with("line 3: sphere 0: its coordinate 1e12 rounds"),
         "{w:?}"
     );
-    // A sphere far from the origin.
-    let text = "[run]\nt_end = 1\n[[sphere]]\ncentre = [0, -1e12, 0]\nradius = 0.5\n";
-    let file = SceneFile::from_toml_str(text).unwrap();
-    let (world, _) = file.build().unwrap();
-    let w = file.warnings(&world);
+    let w = warnings(
+        "[run]\nt_end = 1\n[[sphere]]\ncentre = [0, 0, 0]\nradius = 0.5\n\
+         [[generate]]\nkind = \"nozzle\"\norigin = [1e12, 0, 0]\ndirection = [0, 0, -1]\n\
+         n = 5\nradius = 0.2\nspeed = 4.0\n",
+    );
     assert!(
-        w.len() == 1 && w[0].starts_with("line 3: sphere 0: its centre is 1e12 from the origin"),
+        w.len() == 1
+            && w[0].starts_with("line 6: generate 0 (nozzle), its sphere 0: its coordinate")
+            && w[0].contains("(and 4 other spheres)"),
         "{w:?}"
     );
 }

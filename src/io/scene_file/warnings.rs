@@ -1,52 +1,38 @@
 //! What a scene file asks that the engine can only approximate, said as warnings (the run goes
 //! on): a sphere so far from the origin that its contacts may overlap past the tolerance
-//! ([`World::coarse_sphere`]), and a static shape whose `f32` rounding moves it by more than
-//! `2⁻¹⁰` of the smallest sphere's radius (docs/derivations/simulation.md, "Contacts far from
-//! the origin").
+//! ([`World::coarse_sphere`]), and a static shape that its rounding to `f32` moves by more than
+//! `2⁻¹⁰` of the smallest sphere's radius where the scene is (docs/derivations/simulation.md,
+//! "Contacts far from the origin").
 
 use glam::DVec3;
 
 use super::SceneFile;
+use super::error::location;
 use super::locate::Seg::{self, At, Key};
-use crate::sim::World;
+use crate::error::Num;
+use crate::sim::{Boundary, World};
+use crate::{ShapeKind, Static};
 
-/// How far, over the smallest sphere's radius, rounding may move a shape unsaid: a gap or a
-/// step sized to a sphere is designed to about this (a thousandth), while every coordinate of
-/// a shape within `2¹⁴` radii of the origin rounds by less (`f32` keeps 24 bits).
+/// How far rounding may move a shape, over the smallest sphere's radius, before it is said: a
+/// gap or a step sized to a sphere is designed to about a thousandth of it.
 const SHAPE_MOVE: f64 = 1.0 / 1024.0;
 
-/// `x` as a person writes it: `0.5`, `1e-30` (Rust's `{}` would write 31 digits).
-fn short(x: f64) -> String {
-    if (1e-4..1e6).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
+/// The most shapes named one by one; the rest are counted.
+const NAMED: usize = 10;
 
-/// A value as the library's shapes store it, back in `f64`.
-fn stored(x: f64) -> f64 {
-    f64::from(x as f32)
-}
-
-/// A point as the library's shapes store it.
-fn stored3(p: [f64; 3]) -> DVec3 {
-    DVec3::from_array(p.map(stored))
-}
-
-/// One shape field moved by rounding: where, what, and by how much across the surface.
+/// One shape moved by rounding: which, and how far its surface is from the file's within the
+/// scene.
 struct Moved {
-    path: [Seg; 3],
+    path: [Seg; 2],
     item: String,
-    field: &'static str,
     by: f64,
 }
 
 impl SceneFile {
     /// Warnings for the world [`build`](Self::build) made from this file, each at its entry's
-    /// line: its coarsest sphere ([`World::coarse_sphere`]), and each shape whose position or
-    /// radius, rounded to `f32` as the library's shapes are, moves across its surface by more
-    /// than `2⁻¹⁰` of the smallest sphere's radius.
+    /// line (none in JSON): its coarsest sphere ([`World::coarse_sphere`]), and each shape
+    /// whose surface, as stored in `f32`, is more than `2⁻¹⁰` of the smallest sphere's radius
+    /// from the file's anywhere within the scene's extent at the start.
     ///
     /// ```
     /// use spheresweep::io::scene_file::SceneFile;
@@ -55,7 +41,7 @@ impl SceneFile {
     /// let scene = SceneFile::from_toml_str(text)?;
     /// let (world, _) = scene.build()?;
     /// let warnings = scene.warnings(&world);
-    /// assert!(warnings[0].starts_with("line 7: plane 0: its point is stored as f32"), "{warnings:?}");
+    /// assert!(warnings[0].starts_with("line 6: plane 0: stored in f32"), "{warnings:?}");
     /// # Ok::<(), spheresweep::io::scene_file::SceneFileError>(())
     /// ```
     pub fn warnings(&self, world: &World) -> Vec<String> {
@@ -70,69 +56,112 @@ impl SceneFile {
             .map(|s| s.radius)
             .fold(f64::INFINITY, f64::min);
         let limit = SHAPE_MOVE * smallest;
-        for m in self.moved_shapes() {
-            if m.by > limit {
-                out.push(format!(
-                    "{}{}: its {} is stored as f32 (as the library's shapes are), which moves \
-                     its surface by {:.3e}, more than {:.3e} (2⁻¹⁰ of the smallest radius, \
-                     {}): contacts with it happen that far from where the file puts \
-                     it (units or an origin nearer the scene resolve it)",
-                    self.at(&m.path),
-                    m.item,
-                    m.field,
-                    m.by,
-                    limit,
-                    short(smallest)
-                ));
-            }
+        let moved: Vec<Moved> = moved_shapes(self, world)
+            .into_iter()
+            .filter(|m| m.by > limit)
+            .collect();
+        for m in moved.iter().take(NAMED) {
+            out.push(format!(
+                "{}{}: stored in f32 (as the library's shapes are), its surface is up to {:.2e} \
+                 from the file's where the scene is, more than {:.2e} (2⁻¹⁰ of the smallest \
+                 sphere radius, {}): contacts with it happen that far from where the file puts \
+                 it; move the scene nearer the origin or use larger length units",
+                self.at(&m.path),
+                m.item,
+                m.by,
+                limit,
+                Num(smallest)
+            ));
+        }
+        if moved.len() > NAMED {
+            out.push(format!(
+                "{} more shapes are moved likewise",
+                moved.len() - NAMED
+            ));
         }
         out
     }
 
-    /// `FILE:LINE: ` for the item at `path`, as the errors begin.
+    /// Where the item at `path` is, as errors begin.
     fn at(&self, path: &[Seg]) -> String {
-        match (&self.origin.file, self.origin.line(path)) {
-            (Some(p), Some(l)) => format!("{}:{l}: ", p.display()),
-            (Some(p), None) => format!("{}: ", p.display()),
-            (None, Some(l)) => format!("line {l}: "),
-            (None, None) => String::new(),
-        }
+        location(self.origin.file.as_deref(), self.origin.line(path))
     }
+}
 
-    /// Each shape field and how far its `f32` rounding moves the surface: a plane's point
-    /// along its normal; a cylinder's ends across its axis, and its radius; a container's
-    /// centre and its radius.
-    fn moved_shapes(&self) -> Vec<Moved> {
-        let mut out = Vec::new();
-        let mut push = |table, i, item: String, field, by: f64| {
-            out.push(Moved {
-                path: [Key(table), At(i), Key(field)],
-                item,
-                field,
-                by,
-            });
-        };
-        for (i, p) in self.plane.iter().enumerate() {
-            let n = DVec3::from_array(p.normal).normalize_or_zero();
-            let by = (stored3(p.point) - DVec3::from_array(p.point)).dot(n).abs();
-            push("plane", i, format!("plane {i}"), "point", by);
-        }
-        for (i, c) in self.cylinder.iter().enumerate() {
-            let axis = (DVec3::from_array(c.p2) - DVec3::from_array(c.p1)).normalize_or_zero();
-            for (field, p) in [("p1", c.p1), ("p2", c.p2)] {
-                let d = stored3(p) - DVec3::from_array(p);
-                let by = (d - axis * d.dot(axis)).length();
-                push("cylinder", i, format!("cylinder {i}"), field, by);
+/// How far the scene reaches from `p` at the start: its spheres' farthest surface, and its
+/// box's farthest corner.
+fn reach_from(world: &World, p: DVec3) -> f64 {
+    let corners = |lo: DVec3, hi: DVec3| {
+        (0..8)
+            .map(|k| DVec3::select(glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), hi, lo))
+            .map(|c| (c - p).length())
+            .fold(0.0, f64::max)
+    };
+    let boundary = match world.boundary {
+        Boundary::Open => 0.0,
+        Boundary::OpenBox { lo, hi } => corners(lo, hi),
+        Boundary::Periodic { size } => corners(DVec3::ZERO, size),
+    };
+    let spheres = world
+        .spheres
+        .iter()
+        .map(|s| (s.centre - p).length() + s.radius);
+    spheres.fold(boundary, f64::max)
+}
+
+/// Each shape of the file against the one stored, a bound on the distance between their
+/// surfaces where the scene is: a plane's offset at its point and its normal's tilt times how
+/// far the scene reaches from it; a cylinder's axis moved across itself, its tilt times how
+/// far the scene reaches from its point, and its radius; a container's centre and radius.
+fn moved_shapes(file: &SceneFile, world: &World) -> Vec<Moved> {
+    let mut out = Vec::new();
+    for (body, shape, _) in world.statics.iter() {
+        let i = body.index as usize;
+        let (table, by) = match (body.kind, shape) {
+            (ShapeKind::Plane, Static::Plane(s)) => {
+                let Some(t) = file.plane.get(i) else { continue };
+                let (p, n) = (DVec3::from_array(t.point), DVec3::from_array(t.normal));
+                let n = n.normalize_or_zero();
+                let (q, m) = (
+                    s.point().as_dvec3(),
+                    s.normal().as_dvec3().normalize_or_zero(),
+                );
+                let tilt = (n - m).length() * reach_from(world, p);
+                ("plane", m.dot(q - p).abs() + tilt)
             }
-            let by = (stored(c.radius) - c.radius).abs();
-            push("cylinder", i, format!("cylinder {i}"), "radius", by);
-        }
-        for (i, c) in self.container.iter().enumerate() {
-            let by = (stored3(c.centre) - DVec3::from_array(c.centre)).length();
-            push("container", i, format!("container {i}"), "centre", by);
-            let by = (stored(c.radius) - c.radius).abs();
-            push("container", i, format!("container {i}"), "radius", by);
-        }
-        out
+            (ShapeKind::Cylinder, Static::Cylinder(s)) => {
+                let Some(t) = file.cylinder.get(i) else {
+                    continue;
+                };
+                let p = DVec3::from_array(t.p1);
+                let a = (DVec3::from_array(t.p2) - p).normalize_or_zero();
+                let (q, b) = (
+                    s.point().as_dvec3(),
+                    s.axis().as_dvec3().normalize_or_zero(),
+                );
+                let d = q - p;
+                let across = (d - a * d.dot(a)).length();
+                let along = reach_from(world, p);
+                let radius = (f64::from(s.radius()) - t.radius).abs();
+                ("cylinder", across + (a - b).length() * along + radius)
+            }
+            (ShapeKind::Container, Static::Container(s)) => {
+                let Some(t) = file.container.get(i) else {
+                    continue;
+                };
+                let centre = (s.centre().as_dvec3() - DVec3::from_array(t.centre)).length();
+                (
+                    "container",
+                    centre + (f64::from(s.radius()) - t.radius).abs(),
+                )
+            }
+            _ => continue,
+        };
+        out.push(Moved {
+            path: [Key(table), At(i)],
+            item: format!("{table} {i}"),
+            by,
+        });
     }
+    out
 }

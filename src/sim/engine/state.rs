@@ -200,9 +200,13 @@ impl<
         } else {
             0.0
         };
-        // Not `f64::max`, which drops a NaN.
+        // Not `f64::max` alone, which drops a NaN.
         let now = (now - c).length();
-        let away = if was > now { was } else { now };
+        let away = if was.is_nan() || now.is_nan() {
+            f64::NAN
+        } else {
+            was.max(now)
+        };
         if away.is_nan() || (away > limit && !self.dispersal.parked) {
             return Err(bad(format!(
                 "sphere {id}: {away} from its shell centre, beyond the shell's {}",

@@ -58,14 +58,15 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             from(args.t_end.is_some(), "--t-end", "t_end")
         )
     })?;
-    // Said before the run, which it does not stop (the summary's largest overlap shows it).
-    for warning in scene.warnings(&world) {
-        eprintln!("warning: {warning}");
-    }
     let about = summary::About::of(&args.scene, &world);
     let periodic_box = simulate::periodic_box(world.boundary);
     let n = world.spheres.len();
+    // Said once the world is valid, before the run, which they do not stop.
+    let warnings = scene.warnings(&world);
     let mut sim = build_simulation(args, &scene, world, resume.as_ref())?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
     if args.break_walls_for_testing {
         sim.break_walls_for_testing();
     }
