@@ -405,15 +405,8 @@ fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
     )
     .unwrap();
     let out = dir.join("out");
-    let o = bin()
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_support::success(&scene, &out, &[]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", run_support::stderr(&o));
     assert!(text.contains("run          t = 0 → 1e25 in "), "{text}");
     assert!(
         text.contains("flown apart  nothing has met anything since t = 0,"),
@@ -427,19 +420,9 @@ fn a_scene_that_flies_apart_runs_to_a_huge_t_end_at_once() {
         "nothing ever happened"
     );
     let xyz = std::fs::read_to_string(out.join("trajectory.xyz")).unwrap();
-    let last: Vec<Vec<f64>> = xyz
-        .lines()
-        .rev()
-        .take(2)
-        .map(|l| {
-            l.split_whitespace()
-                .skip(1)
-                .take(3)
-                .map(|x| x.parse().unwrap())
-                .collect()
-        })
-        .collect();
-    let want = [[3.0 + 1e25, 0.0, -0.25e25], [-1e25, 0.5e25, 0.0]];
+    let (time, last) = run_support::last_frame(&xyz, 2);
+    assert_eq!(time, 1e25);
+    let want = [[-1e25, 0.5e25, 0.0], [3.0 + 1e25, 0.0, -0.25e25]];
     for (got, want) in last.iter().zip(want) {
         for (g, w) in got.iter().zip(want) {
             assert!(
@@ -469,13 +452,7 @@ fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
             ),
         )
         .unwrap();
-        let o = bin()
-            .arg("run")
-            .arg(&scene)
-            .arg("--out")
-            .arg(dir.join(name))
-            .output()
-            .unwrap();
+        let o = run_support::output(&scene, &dir.join(name), &[]);
         let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
         assert!(o.status.success(), "{err}");
         let warning = format!(
@@ -505,13 +482,7 @@ fn a_parked_run_stopped_at_its_reach_keeps_its_outputs() {
     )
     .unwrap();
     let out = dir.join("out");
-    let o = bin()
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_support::output(&scene, &out, &[]);
     let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
     assert!(!o.status.success(), "{text}");
     assert!(
@@ -532,29 +503,11 @@ fn a_parked_run_stopped_at_its_reach_keeps_its_outputs() {
     );
     assert!(summary["stopped_short"].as_str().is_some(), "{summary}");
     assert!(out.join("events.csv").exists() && !out.join("checkpoint.bin").exists());
-    // The frames, read here: t = 0 and the reach, the last with both spheres on their lines.
+    // Two frames, t = 0 and the reach, the last with both spheres on their lines.
     let xyz = std::fs::read_to_string(out.join("trajectory.xyz")).unwrap();
-    let lines: Vec<&str> = xyz.lines().collect();
-    assert_eq!(lines.len(), 8, "two frames of two spheres");
-    let time: f64 = lines[5]
-        .split("Time=")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert_eq!(time, reach, "{}", lines[5]);
-    let at = |l: &str| -> Vec<f64> {
-        l.split_whitespace()
-            .skip(1)
-            .take(3)
-            .map(|x| x.parse().unwrap())
-            .collect()
-    };
-    let (a, b) = (at(lines[6]), at(lines[7]));
-    assert_eq!(a, [reach, 0.0, 0.0]);
-    assert_eq!(b, [reach, 1.5, 0.0]);
+    assert_eq!(xyz.lines().count(), 8, "two frames of two spheres");
+    let (time, centres) = run_support::last_frame(&xyz, 2);
+    assert_eq!(time, reach);
+    assert_eq!(centres, [[reach, 0.0, 0.0], [reach, 1.5, 0.0]]);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -227,11 +227,15 @@ impl Settings {
         let t_end = self.t_end;
         match self.snapshot_every {
             Some(dt) => {
-                // Snapshots at k·dt (k ≥ 1) up to t_end, within rounding; t_end itself if it
-                // falls between two.
+                // Snapshots at k·dt (k ≥ 1) up to t_end, within rounding (a k·dt that rounds
+                // just below t_end is t_end: 10 · 1e24 is 9.999999999999999e24, and the last
+                // frame was there, the run ending after it); t_end itself if it falls between
+                // two.
                 let last = ((t_end / dt) * (1.0 + 1e-12)).floor() as u64;
+                let near_end = t_end * (1.0 - 1e-12);
                 let mut out: Vec<(f64, bool)> = (1..=last)
-                    .map(|k| ((k as f64 * dt).min(t_end), true))
+                    .map(|k| k as f64 * dt)
+                    .map(|t| (if t >= near_end { t_end } else { t }, true))
                     .collect();
                 if out.last().is_none_or(|&(t, _)| t < t_end) {
                     out.push((t_end, false));
@@ -277,6 +281,9 @@ mod tests {
         // 0.1 · 3 rounds above 0.3: the last snapshot is still taken, at t_end.
         assert_eq!(every(0.3, Some(0.1)).stops().len(), 3);
         assert_eq!(every(0.3, Some(0.1)).stops().last(), Some(&(0.3, true)));
+        // 10 · 1e24 rounds below 1e25: the tenth snapshot is still at t_end, and the last.
+        let s = every(1e25, Some(1e24)).stops();
+        assert_eq!((s.len(), s.last()), (10, Some(&(1e25, true))));
         assert_eq!(every(1.0, Some(0.4)).frames_from(0), 3);
         assert_eq!(every(1.0, Some(0.4)).frames_from(1), 1);
         assert_eq!(every(1.0, None).frames_from(0), 0);

@@ -129,3 +129,25 @@ pub fn physics(p: &Path) -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// The last frame of an extended-XYZ trajectory of `n` spheres, read here (not by the
+/// library): its `Time=` and each sphere's centre.
+pub fn last_frame(xyz: &str, n: usize) -> (f64, Vec<[f64; 3]>) {
+    let lines: Vec<&str> = xyz.lines().collect();
+    let frame = &lines[lines.len() - n - 2..];
+    let time = frame[1].split("Time=").nth(1).expect("a Time= field");
+    let time = time.split(' ').next().unwrap().parse().expect("a time");
+    let centres = frame[2..]
+        .iter()
+        .map(|l| {
+            let x: Vec<f64> = l
+                .split_whitespace()
+                .skip(1)
+                .take(3)
+                .map(|x| x.parse().expect("a coordinate"))
+                .collect();
+            [x[0], x[1], x[2]]
+        })
+        .collect();
+    (time, centres)
+}
