@@ -816,7 +816,18 @@ impl Simulation {
             "periodic_gas" => cls.call_method1("periodic_gas", how.cast::<PyTuple>()?)?,
             "from_spheres" => {
                 let (args, kwargs): (Bound<'py, PyTuple>, Bound<'py, PyDict>) = how.extract()?;
-                cls.call_method("from_spheres", args, Some(&kwargs))?
+                // Its warnings were given when it was first built (as a scene file's are not
+                // given again below): a pickle sent to many workers would repeat them.
+                let quiet = py.import("warnings")?.call_method0("catch_warnings")?;
+                quiet.call_method0("__enter__")?;
+                py.import("warnings")?.call_method1(
+                    "simplefilter",
+                    ("ignore", py.get_type::<PyRuntimeWarning>()),
+                )?;
+                let built = cls.call_method("from_spheres", args, Some(&kwargs));
+                let none = py.None();
+                quiet.call_method1("__exit__", (&none, &none, &none))?;
+                built?
             }
             other => {
                 return Err(PyValueError::new_err(format!(

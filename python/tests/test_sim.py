@@ -4,6 +4,7 @@ events come out as arrays, errors are named, and the GIL is released while it ru
 
 import math
 import pathlib
+import pickle
 import threading
 import time
 import warnings
@@ -489,6 +490,11 @@ def test_spheres_far_from_the_origin_are_warned_of(tmp_path):
     with pytest.warns(RuntimeWarning, match=r"centres\[0\]: its coordinate 1e12 rounds.*\(and 1 other sphere\)"):
         sim = ss.Simulation.from_spheres(far, v, [0.5, 0.5])
     sim.advance_to(2.0)
+    # Unpickled (on a worker, say), it does not warn again.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        back = pickle.loads(pickle.dumps(sim))
+    assert np.array_equal(back.positions, sim.positions)
     scene = tmp_path / "far.toml"
     scene.write_text(
         "[run]\nt_end = 2\n\n[[sphere]]\ncentre = [1e12, 0.3, 0]\nradius = 0.5\n\n"
