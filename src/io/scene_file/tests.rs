@@ -398,16 +398,18 @@ fn files_are_named_in_messages() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The warnings of the world the scene `text` builds.
+fn warnings(text: &str) -> Vec<String> {
+    let file = SceneFile::from_toml_str(text).unwrap();
+    let (world, _) = file.build().unwrap();
+    file.warnings(&world)
+}
+
 /// A shape moved by its `f32` rounding by more than `2⁻¹⁰` of the smallest radius where the
 /// scene is, named at its entry's line; a move along a plane or along a cylinder's axis is not
 /// one, a tilt is (it grows with the scene's extent).
 #[test]
 fn shapes_that_rounding_moves_are_warned_of_at_their_line() {
-    let warnings = |text: &str| {
-        let file = SceneFile::from_toml_str(text).unwrap();
-        let (world, _) = file.build().unwrap();
-        file.warnings(&world)
-    };
     let scene = |radius: f64| {
         warnings(&format!(
             "[run]\nt_end = 1\n\
@@ -453,11 +455,6 @@ fn shapes_that_rounding_moves_are_warned_of_at_their_line() {
 /// and its index in it.
 #[test]
 fn spheres_far_from_the_origin_are_warned_of_at_their_entry() {
-    let warnings = |text: &str| {
-        let file = SceneFile::from_toml_str(text).unwrap();
-        let (world, _) = file.build().unwrap();
-        file.warnings(&world)
-    };
     let w = warnings("[run]\nt_end = 1\n[[sphere]]\ncentre = [0, -1e12, 0]\nradius = 0.5\n");
     assert!(
         w.len() == 1 && w[0].starts_with("line 3: sphere 0: its coordinate 1e12 rounds"),
