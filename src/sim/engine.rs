@@ -764,6 +764,17 @@ impl<
         shell.and_then(|q| self.horizon(q))
     }
 
+    /// Where body `b` is at time `t` (unwrapped): on its parabola under gravity, else on its
+    /// line (the parabola with `g = 0` is NaN once `Δt²` overflows, past `Δt ≈ 10¹⁵⁴`).
+    #[inline(always)]
+    fn centre_at(&self, b: &Trajectory, t: f64) -> DVec3 {
+        if GRAVITY {
+            b.at(t, self.m.g).0
+        } else {
+            b.on_line(t)
+        }
+    }
+
     /// Every sphere's centre and velocity at the current time (periodic centres wrapped), in
     /// public order.
     pub fn current(&self) -> Vec<Trajectory> {

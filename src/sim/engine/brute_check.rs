@@ -30,14 +30,7 @@ impl<
         let n = self.m.bodies.len();
         let len = self.cells.len;
         let g = self.m.g;
-        // On the line without gravity (the parabola is NaN once `Δt²` overflows).
-        let at_now = |b: &Trajectory| {
-            if GRAVITY {
-                b.at(self.now, g).0
-            } else {
-                b.on_line(self.now)
-            }
-        };
+        let at_now = |b: &Trajectory| self.centre_at(b, self.now);
         let v_now = |b: &Trajectory| b.at(self.now, g).1;
         // How close `r0 + v t` comes to the origin over `[0, t_end]` (`t_end` may be ∞).
         let closest = |r0: DVec3, v: DVec3, t_end: f64| {
@@ -114,12 +107,7 @@ impl<
         };
         for i in 0..n {
             let b = &self.m.bodies[i];
-            let now = if GRAVITY {
-                b.at(self.now, self.m.g).0
-            } else {
-                b.on_line(self.now)
-            };
-            let away = (now - l.centre[i].c).length();
+            let away = (self.centre_at(b, self.now) - l.centre[i].c).length();
             assert!(
                 away <= l.delta * (1.0 + super::lists::REACH_MARGIN),
                 "after the event of sphere {s} at t = {}: sphere {i} is {away} from its shell \

@@ -190,18 +190,13 @@ impl<
         // so only where it is now. Parked spheres have left their shells (`check_parked`
         // checks them instead).
         let limit = self.lists.delta * (1.0 + super::lists::REACH_MARGIN);
-        let now = if GRAVITY {
-            b.at(self.now, self.m.g).0
-        } else {
-            b.on_line(self.now)
-        };
+        let now = (self.centre_at(&b, self.now) - c).length();
         let was = if PERIODIC || GRAVITY {
             (b.r - c).length()
         } else {
             0.0
         };
         // Not `f64::max` alone, which drops a NaN.
-        let now = (now - c).length();
         let away = if was.is_nan() || now.is_nan() {
             f64::NAN
         } else {
