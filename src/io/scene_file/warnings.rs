@@ -88,32 +88,34 @@ impl SceneFile {
     }
 }
 
-/// How far the scene reaches from `p` at the start: its spheres' farthest surface, and its
-/// box's farthest corner.
-fn reach_from(world: &World, p: DVec3) -> f64 {
-    let corners = |lo: DVec3, hi: DVec3| {
-        (0..8)
-            .map(|k| DVec3::select(glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), hi, lo))
-            .map(|c| (c - p).length())
-            .fold(0.0, f64::max)
+/// The box the scene spans at the start: its spheres (their surfaces) and its boundary's box.
+fn scene_box(world: &World) -> (DVec3, DVec3) {
+    let start = match world.boundary {
+        Boundary::Open => (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        Boundary::OpenBox { lo, hi } => (lo, hi),
+        Boundary::Periodic { size } => (DVec3::ZERO, size),
     };
-    let boundary = match world.boundary {
-        Boundary::Open => 0.0,
-        Boundary::OpenBox { lo, hi } => corners(lo, hi),
-        Boundary::Periodic { size } => corners(DVec3::ZERO, size),
-    };
-    let spheres = world
-        .spheres
-        .iter()
-        .map(|s| (s.centre - p).length() + s.radius);
-    spheres.fold(boundary, f64::max)
+    world.spheres.iter().fold(start, |(lo, hi), s| {
+        let r = DVec3::splat(s.radius);
+        (lo.min(s.centre - r), hi.max(s.centre + r))
+    })
+}
+
+/// How far the scene reaches from `p`: the farthest corner of its box (at least as far as any
+/// sphere's surface in it), once the box has been found.
+fn reach_from((lo, hi): (DVec3, DVec3), p: DVec3) -> f64 {
+    if lo.cmpgt(hi).any() {
+        return 0.0;
+    }
+    (p - lo).abs().max((hi - p).abs()).length()
 }
 
 /// Each shape of the file against the one stored, a bound on the distance between their
 /// surfaces where the scene is: a plane's offset at its point and its normal's tilt times how
-/// far the scene reaches from it; a cylinder's axis moved across itself, its tilt times how
-/// far the scene reaches from its point, and its radius; a container's centre and radius.
+/// far the scene's box reaches from it; a cylinder's axis moved across itself, its tilt times
+/// how far the box reaches from its point, and its radius; a container's centre and radius.
 fn moved_shapes(file: &SceneFile, world: &World) -> Vec<Moved> {
+    let scene = scene_box(world);
     let mut out = Vec::new();
     for (body, shape, _) in world.statics.iter() {
         let i = body.index as usize;
@@ -126,7 +128,7 @@ fn moved_shapes(file: &SceneFile, world: &World) -> Vec<Moved> {
                     s.point().as_dvec3(),
                     s.normal().as_dvec3().normalize_or_zero(),
                 );
-                let tilt = (n - m).length() * reach_from(world, p);
+                let tilt = (n - m).length() * reach_from(scene, p);
                 ("plane", m.dot(q - p).abs() + tilt)
             }
             (ShapeKind::Cylinder, Static::Cylinder(s)) => {
@@ -141,7 +143,7 @@ fn moved_shapes(file: &SceneFile, world: &World) -> Vec<Moved> {
                 );
                 let d = q - p;
                 let across = (d - a * d.dot(a)).length();
-                let along = reach_from(world, p);
+                let along = reach_from(scene, p);
                 let radius = (f64::from(s.radius()) - t.radius).abs();
                 ("cylinder", across + (a - b).length() * along + radius)
             }
