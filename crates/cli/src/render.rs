@@ -34,7 +34,7 @@ pub struct Args {
     input: PathBuf,
     /// Directory for the pictures (default: `<stem>-render/` beside the input). A scene gives
     /// `<stem>.svg`/`.png`; snapshots give `frame-0000.svg`/`.png`, `frame-0001…`, numbered
-    /// by frame.
+    /// by frame (every frame: refused if the directory holds other frame pictures).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Snapshots only: draw frame K (counted from 0, below the number of frames). Default:
@@ -44,7 +44,8 @@ pub struct Args {
     /// Snapshots only: draw this scene file's planes, cylinders, containers and boundary with
     /// the spheres, frame the pictures by its boundary or vessel, and name its materials in
     /// the legend. Default: the scene that the summary.json beside the snapshots names (as
-    /// `run` writes it), if it has as many spheres; else none, the spheres only.
+    /// `run` writes it), looked for from here, then beside the run, if it still builds the
+    /// world the run started from; else none, the spheres only, with a warning.
     #[arg(long, value_name = "SCENE")]
     scene: Option<PathBuf>,
     /// Which files: svg, png or both.
@@ -240,7 +241,10 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
             }
             (Some(world), Some(path.clone()), None)
         }
-        None => match scene_of_run(&args.input, frames[0].spheres.len()) {
+        None => match scene_of_run(&args.input, frames[0].spheres.len()).unwrap_or_else(|why| {
+            eprintln!("{why}");
+            None
+        }) {
             Some((path, world)) => {
                 let note = format!(
                     "shapes and materials of {} (the scene summary.json names; --scene to \
@@ -267,19 +271,74 @@ fn snapshot_record(args: &Args) -> Result<Record, Box<dyn Error>> {
     })
 }
 
-/// The scene a run's `summary.json` beside `snapshots` names, and its world, if it can be
-/// read and has `spheres` spheres; `None` otherwise (the pictures then have no shapes).
-fn scene_of_run(snapshots: &Path, spheres: usize) -> Option<(PathBuf, spheresweep::sim::World)> {
+/// The scene a run's `summary.json` beside `snapshots` names, and its world, if some file of
+/// that name builds the world the run started from (its `run.fingerprint`; a summary without
+/// one: as many spheres as the snapshots). A relative name is `run`'s working directory's, so
+/// it is looked for from here, then from the run's directory and the one above it. `Ok(None)`
+/// without a summary; `Err` says why a named scene is not drawn.
+fn scene_of_run(
+    snapshots: &Path,
+    spheres: usize,
+) -> Result<Option<(PathBuf, spheresweep::sim::World)>, String> {
     let summary = snapshots.with_file_name("summary.json");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(summary).ok()?).ok()?;
-    let path = PathBuf::from(json.get("scene")?.as_str()?);
-    let scene = SceneFile::from_path(&path).ok()?;
-    if scene.sphere_count()? != spheres {
-        return None;
+    let Some(json) = std::fs::read_to_string(&summary)
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+    else {
+        return Ok(None);
+    };
+    let Some(named) = json
+        .get("scene")
+        .and_then(|v| v.as_str())
+        .map(PathBuf::from)
+    else {
+        return Ok(None);
+    };
+    let fingerprint = json
+        .pointer("/run/fingerprint")
+        .and_then(|v| v.as_str())
+        .map(str::to_owned);
+    let run_dir = summary.parent().unwrap_or(Path::new(""));
+    let mut candidates = vec![named.clone()];
+    if named.is_relative() {
+        candidates.push(run_dir.join(&named));
+        if let Some(above) = run_dir.parent() {
+            candidates.push(above.join(&named));
+        }
     }
-    crate::memory::check_scene(&path, &scene, size_of::<SphereState>()).ok()?;
-    Some((path, scene.build().ok()?.0))
+    candidates.dedup();
+    let matches = |path: &PathBuf| -> Option<spheresweep::sim::World> {
+        let scene = SceneFile::from_path(path).ok()?;
+        if scene.sphere_count()? != spheres {
+            return None;
+        }
+        crate::memory::check_scene(path, &scene, size_of::<SphereState>()).ok()?;
+        let world = scene.build().ok()?.0;
+        let same = match &fingerprint {
+            Some(f) => *f == format!("{:016x}", crate::run::hash::world(&world)),
+            None => true,
+        };
+        same.then_some(world)
+    };
+    if let Some((path, world)) = candidates
+        .iter()
+        .find_map(|p| matches(p).map(|w| (p.clone(), w)))
+    {
+        return Ok(Some((path, world)));
+    }
+    let found = candidates.iter().any(|p| p.is_file());
+    Err(format!(
+        "warning: {} names the scene {}, but {}: the spheres are drawn without shapes \
+         (--scene FILE draws a scene's)",
+        summary.display(),
+        named.display(),
+        if found {
+            "no file of that name here or beside the run builds the world the run started \
+             from (changed since, or another file)"
+        } else {
+            "no file of that name is found here or beside the run"
+        }
+    ))
 }
 
 /// Legend entries of a world's static shapes: how many of each kind, and their materials.
@@ -474,9 +533,45 @@ fn checked_outputs(
     for path in &outputs {
         crate::output::not_an_input(path, &inputs)?;
     }
+    if args.frame.is_none() && matches!(kind_of(&args.input), Ok(Input::Snapshots)) {
+        let stale = other_frames(&dir, &outputs, extensions);
+        if let Some(first) = stale.first() {
+            return Err(format!(
+                "--out {}: holds {} this render does not write ({}{}), from another \
+                 render: they would read as one sequence with these; remove them or choose \
+                 another --out",
+                dir.display(),
+                counted(stale.len() as u64, "frame picture", "frame pictures"),
+                first.display(),
+                if stale.len() > 1 { ", …" } else { "" }
+            )
+            .into());
+        }
+    }
     crate::output::check_writable(&outputs[0])?;
     crate::atomic::remove_stale_temporaries(&outputs);
     Ok(dir)
+}
+
+/// The frame pictures in `dir` (`frame-*` of the extensions written) that are not among
+/// `outputs`, sorted: a render of every frame would leave them beside its own.
+fn other_frames(dir: &Path, outputs: &[PathBuf], extensions: &[&str]) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut found: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            let named = p
+                .file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("frame-"));
+            let ext = p.extension().and_then(|e| e.to_str());
+            named && ext.is_some_and(|e| extensions.contains(&e)) && !outputs.contains(p)
+        })
+        .collect();
+    found.sort();
+    found
 }
 
 /// The legend: the materials of the chosen frames' spheres, by name, then the shapes' keys.

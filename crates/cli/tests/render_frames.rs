@@ -2,7 +2,9 @@
 //! the sphere and the line; pictures are framed by the scene's boundary or vessel, or else by a
 //! robust extent that a far-flung sphere does not change (it is counted in the caption); a
 //! run's snapshots are drawn with the shapes and material names of the scene its summary
-//! names; the periodic box is outlined over the spheres.
+//! names, only while that scene builds the world the run started from; the periodic box is
+//! outlined over the spheres; a nanometre scene is framed as a metre one; a sequence is not
+//! mixed with another's frames.
 
 mod common;
 
@@ -291,4 +293,135 @@ fn a_scene_run_refuses_is_drawn_with_a_warning() {
             assert!(err.contains("spheres 0 and 1 overlap by 1e0"), "{err}");
         }
     }
+}
+
+/// A run's scene is found from wherever its pictures are drawn (its name is the run's working
+/// directory's), and only if it still builds the world the run started from: a changed scene,
+/// or another file of its name, is not drawn, and a warning says why.
+#[test]
+fn a_runs_scene_is_drawn_only_if_it_is_the_one_it_ran() {
+    let dir = scratch("render-run-scene");
+    std::fs::write(dir.join("boxed.toml"), BOXED).unwrap();
+    let run = bin()
+        .current_dir(&dir)
+        .args(["run", "--quiet", "boxed.toml", "--out", "run"])
+        .output()
+        .unwrap();
+    ok(&run);
+    let sub = dir.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let render = |out: &str| {
+        let o = bin()
+            .current_dir(&sub)
+            .args(["render", "../run/trajectory.xyz", "--view", "top"])
+            .args(["--format", "svg", "--out", out])
+            .output()
+            .unwrap();
+        ok(&o);
+        let svg = std::fs::read_to_string(sub.join(out).join("frame-0000.svg")).unwrap();
+        let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+        (svg, text(&o.stdout), text(&o.stderr))
+    };
+    // From a directory of its own the scene is found beside the run: its pillar is drawn.
+    let (svg, note, err) = render("found");
+    assert!(svg.contains("1 cylinder: steel"), "{err}");
+    assert!(
+        note.contains("shapes and materials of ../boxed.toml"),
+        "{note}"
+    );
+    assert!(err.is_empty(), "{err}");
+    // Another file of the same name here is not the scene the run ran: the one beside the
+    // run is drawn.
+    let other = BOXED.replace("radius = 1.5", "radius = 3.5");
+    std::fs::write(sub.join("boxed.toml"), &other).unwrap();
+    let (_, note, err) = render("beside");
+    assert!(
+        note.contains("shapes and materials of ../boxed.toml"),
+        "{note}"
+    );
+    assert!(err.is_empty(), "{err}");
+    // The scene itself changed after the run: not drawn, and said.
+    std::fs::remove_file(sub.join("boxed.toml")).unwrap();
+    std::fs::write(dir.join("boxed.toml"), &other).unwrap();
+    let (svg, _, err) = render("changed");
+    assert!(!svg.contains("cylinder"), "{svg}");
+    assert!(
+        err.contains("builds the world the run started from"),
+        "{err}"
+    );
+    // And gone: not drawn, and said.
+    std::fs::remove_file(dir.join("boxed.toml")).unwrap();
+    let (svg, _, err) = render("gone");
+    assert!(!svg.contains("cylinder"), "{svg}");
+    assert!(err.contains("no file of that name is found"), "{err}");
+}
+
+/// A scene a few nanometres across, in metres, is framed by its own extent: its spheres are
+/// drawn at the same size in pixels as the same scene a billion times larger.
+#[test]
+fn a_nanometre_scene_is_framed_as_a_metre_one() {
+    let dir = scratch("render-tiny");
+    let scene = |scale: f64| {
+        format!(
+            "[run]\nt_end = 1\n[[sphere]]\ncentre = [{}, 0, 0]\nradius = {}\n\
+             [[sphere]]\ncentre = [{}, 0, 0]\nradius = {}\n",
+            1.0 * scale,
+            0.5 * scale,
+            4.0 * scale,
+            0.5 * scale
+        )
+    };
+    let mut radii = Vec::new();
+    for (name, scale) in [("metre", 1.0), ("nano", 1e-9), ("tiny", 1e-21)] {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, scene(scale)).unwrap();
+        let (_, r, _) = top_view(&path, &dir.join(name));
+        radii.push(r.iter().copied().fold(0.0, f64::max));
+    }
+    assert!(radii[0] > 50.0, "{radii:?}");
+    for r in &radii[1..] {
+        assert!((r / radii[0] - 1.0).abs() < 1e-6, "{radii:?}");
+    }
+}
+
+/// A render of every frame refuses a directory holding frame pictures it would not overwrite
+/// (another sequence's, which would read as one with these) and writes nothing; one frame
+/// asked for, or the same sequence again, is drawn.
+#[test]
+fn frames_of_another_render_are_not_mixed_with_these() {
+    let dir = scratch("render-mixed");
+    let (two, one) = (dir.join("two.xyz"), dir.join("one.xyz"));
+    let mut text = Vec::new();
+    for t in [0.0, 1.0] {
+        let spheres = [
+            ball(DVec3::new(t, 0.0, 0.0)),
+            ball(DVec3::new(3.0, 0.0, 0.0)),
+        ];
+        spheresweep::io::xyz::write_frame(&mut text, &spheres, t, None).unwrap();
+    }
+    std::fs::write(&two, text).unwrap();
+    snapshot(&one, &[ball(DVec3::ZERO)]);
+    let out = dir.join("pictures");
+    let render = |input: &Path, extra: &[&str]| {
+        spheresweep(
+            &[
+                &["render", s(input), "--out", s(&out), "--format", "svg"],
+                extra,
+            ]
+            .concat(),
+        )
+    };
+    ok(&render(&two, &[]));
+    let first = std::fs::read(out.join("frame-0000.svg")).unwrap();
+    let refused = render(&one, &[]);
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("holds 1 frame picture this render does not write")
+            && err.contains("frame-0001.svg"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(out.join("frame-0000.svg")).unwrap(), first);
+    ok(&render(&two, &[]));
+    ok(&render(&one, &["--frame", "0"]));
 }

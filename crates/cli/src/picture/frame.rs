@@ -27,9 +27,18 @@ pub fn bounds<'a>(
     if !(lo.is_finite() && hi.is_finite() && hi.cmpge(lo).all()) {
         return (DVec3::splat(-1.0), DVec3::splat(1.0));
     }
-    // Each axis by 4 % of its own extent, and at least 1 % of the largest.
+    // Each axis by 4 % of its own extent, and at least 1 % of the largest: at any scale (a
+    // nanometre scene in metres is framed as one in nanometres). A frame of no extent (points
+    // at one place) is given a millionth of its distance from the origin, or 1 at it.
     let extent = hi - lo;
-    let pad = (extent * 0.04).max(DVec3::splat((extent.max_element() * 0.01).max(1e-6)));
+    let least = match extent.max_element() {
+        e if e > 0.0 => e * 0.01,
+        _ => match lo.abs().max(hi.abs()).max_element() * 1e-6 {
+            d if d > 0.0 => d,
+            _ => 1.0,
+        },
+    };
+    let pad = (extent * 0.04).max(DVec3::splat(least));
     (lo - pad, hi + pad)
 }
 

@@ -53,7 +53,11 @@ struct Map {
 
 impl Map {
     fn new(rect: Rect, u: (f64, f64), v: (f64, f64)) -> Self {
-        let (du, dv) = ((u.1 - u.0).max(1e-12), (v.1 - v.0).max(1e-12));
+        // The frame has extent at any scale (`frame::bounds`); the floor only spares a zero.
+        let (du, dv) = (
+            (u.1 - u.0).max(f64::MIN_POSITIVE),
+            (v.1 - v.0).max(f64::MIN_POSITIVE),
+        );
         let scale = (rect.w / du).min(rect.h / dv);
         let origin = (
             rect.x + (rect.w - scale * du) / 2.0,

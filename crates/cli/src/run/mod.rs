@@ -12,7 +12,7 @@
 
 mod checkpoint;
 mod events;
-mod hash;
+pub(crate) mod hash;
 mod limits;
 mod options;
 mod outputs;
