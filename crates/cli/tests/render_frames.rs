@@ -425,3 +425,25 @@ fn frames_of_another_render_are_not_mixed_with_these() {
     ok(&render(&two, &[]));
     ok(&render(&one, &["--frame", "0"]));
 }
+
+/// A plane tilted along the line of sight shades the band it sweeps over the panel's depths
+/// (a sphere drawn on its line may be clear of it at its own depth); one seen edge on does not.
+#[test]
+fn a_plane_tilted_along_the_line_of_sight_shades_its_sweep() {
+    let dir = scratch("render-tilted");
+    let swept = |normal: &str| {
+        let path = dir.join("plane.toml");
+        let scene = format!(
+            "[run]\nt_end = 1\n[[plane]]\npoint = [0, 0, 0]\nnormal = {normal}\n\
+             [[sphere]]\ncentre = [3, -3, 1]\nradius = 0.5\n\
+             [[sphere]]\ncentre = [2, 2, 2]\nradius = 0.5\n"
+        );
+        std::fs::write(&path, scene).unwrap();
+        let (_, _, svg) = top_view(&path, &dir.join("pictures"));
+        svg.lines()
+            .filter(|l| l.contains("<polygon") && l.contains("#8c6d46"))
+            .count()
+    };
+    assert_eq!(swept("[1, 1, 1]"), 1);
+    assert_eq!(swept("[1, 1, 0]"), 0);
+}

@@ -1,5 +1,5 @@
 //! One panel of a scene picture, drawn in named stages: the frame and title, the inside of the
-//! containers, the cylinders (disks, or bands kept for the depth order), the planes' sections,
+//! containers, the cylinders (disks, or bands kept for the depth order), the planes' sections (and the bands tilted ones sweep over the depths shown),
 //! the cover outside the containers, the spheres far to near with the bands between them, the
 //! containers' and boxes' outlines, the trajectories, a scale bar and the axis names.
 
@@ -89,6 +89,8 @@ struct Scope {
     middle: DVec3,
     /// A point of the section plane: the slab's middle, or the bounds' middle.
     section: DVec3,
+    /// The depths the panel shows: the slab, or the bounds'.
+    depths: (f64, f64),
     /// Scene units enough to leave the panel from any point in it.
     reach: f64,
 }
@@ -112,10 +114,9 @@ impl Scope {
         let mid = panel
             .slab
             .map_or_else(|| view.depth_coordinate(middle), |(a, b)| (a + b) / 2.0);
-        let section = match view {
-            View::Side => DVec3::Y * mid,
-            View::Top => DVec3::Z * mid,
-        };
+        let section = at_depth(view, mid);
+        let (d0, d1) = (view.depth_coordinate(lo), view.depth_coordinate(hi));
+        let depths = panel.slab.unwrap_or((d0.min(d1), d0.max(d1)));
         let reach = inner.w.hypot(inner.h) / map.scale.max(1e-300) + 1.0;
         Self {
             view,
@@ -123,6 +124,7 @@ impl Scope {
             map,
             middle,
             section,
+            depths,
             reach,
         }
     }
@@ -232,8 +234,21 @@ fn cylinders(canvas: &mut Canvas, scope: &Scope, shapes: &Shapes) -> Vec<Band> {
     bands
 }
 
+/// A point at depth `d` on the view's axis of depth.
+fn at_depth(view: View, d: f64) -> DVec3 {
+    match view {
+        View::Side => DVec3::Y * d,
+        View::Top => DVec3::Z * d,
+    }
+}
+
+/// How opaque the band a tilted plane sweeps across the panel's depths is.
+const SWEPT_OPACITY: f32 = 0.18;
+
 /// Each plane as the line where it crosses the section plane, with the ground behind it
-/// shaded if the shapes ask for it.
+/// shaded if the shapes ask for it. A plane tilted along the line of sight also shades the
+/// band it sweeps over the panel's depths: a sphere drawn on its line may be clear of it at
+/// its own depth.
 fn plane_sections(canvas: &mut Canvas, scope: &Scope, shapes: &Shapes) {
     let (eu, ev, _) = scope.view.axes();
     let map = &scope.map;
@@ -244,12 +259,36 @@ fn plane_sections(canvas: &mut Canvas, scope: &Scope, shapes: &Shapes) {
         if len2 < 1e-12 {
             continue;
         }
-        let rhs = n.dot(q) - n.dot(scope.section);
-        let foot = (nu * rhs / len2, nv * rhs / len2);
-        let along = (-nv / len2.sqrt(), nu / len2.sqrt());
-        let far = scope.reach_from(foot);
-        let a = (foot.0 - along.0 * far, foot.1 - along.1 * far);
-        let b = (foot.0 + along.0 * far, foot.1 + along.1 * far);
+        // The line where the plane crosses depth `d`: its foot from the projected origin and
+        // its two ends, far enough to leave the panel.
+        let line_at = |point: DVec3| {
+            let rhs = n.dot(q) - n.dot(point);
+            let foot = (nu * rhs / len2, nv * rhs / len2);
+            let along = (-nv / len2.sqrt(), nu / len2.sqrt());
+            let far = scope.reach_from(foot);
+            (
+                (foot.0 - along.0 * far, foot.1 - along.1 * far),
+                (foot.0 + along.0 * far, foot.1 + along.1 * far),
+                far,
+            )
+        };
+        let (a, b, far) = line_at(scope.section);
+        let (first, last) = (
+            at_depth(scope.view, scope.depths.0),
+            at_depth(scope.view, scope.depths.1),
+        );
+        // How far apart, in pixels, its lines at the first and the last depth are.
+        let apart = n.dot(first - last).abs() / len2.sqrt() * map.scale;
+        if apart > 1.0 {
+            let (near, deep) = (line_at(first), line_at(last));
+            let swept = vec![
+                map.px(near.0),
+                map.px(near.1),
+                map.px(deep.1),
+                map.px(deep.0),
+            ];
+            canvas.polygon(swept, FLOOR.alpha(SWEPT_OPACITY));
+        }
         if shapes.ground {
             let back = (-nu / len2.sqrt() * far, -nv / len2.sqrt() * far);
             let ground = vec![
