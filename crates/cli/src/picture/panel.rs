@@ -1,7 +1,8 @@
 //! One panel of a scene picture, drawn in named stages: the frame and title, the inside of the
-//! containers, the cylinders (disks, or bands kept for the depth order), the planes' sections (and the bands tilted ones sweep over the depths shown),
-//! the cover outside the containers, the spheres far to near with the bands between them, the
-//! containers' and boxes' outlines, the trajectories, a scale bar and the axis names.
+//! containers, the cylinders (disks, or bands kept for the depth order), the planes' sections
+//! (and the bands tilted ones sweep over the depths shown), the cover outside the containers,
+//! the spheres far to near with the bands between them, the containers' and boxes' outlines,
+//! the trajectories, a scale bar and the axis names.
 
 use glam::DVec3;
 use spheresweep::{Container, Cylinder, Plane};
