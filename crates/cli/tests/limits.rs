@@ -469,7 +469,8 @@ fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
 /// Two spheres side by side flying together, asked to go to `10²⁰`: past their reach (about
 /// `5.6·10¹⁴`, where their positions would round by a good part of their gap) the run stops
 /// short, but keeps what it computed: a last frame at the reach, with the spheres on their
-/// lines and still apart, the summary saying why, and an error exit naming the reach.
+/// lines and still apart, the summary saying why, and an error exit naming the end asked for
+/// and the reach.
 #[test]
 fn a_parked_run_stopped_at_its_reach_keeps_its_outputs() {
     let dir = scratch("stopped-short");
@@ -485,12 +486,16 @@ fn a_parked_run_stopped_at_its_reach_keeps_its_outputs() {
     let o = run_support::output(&scene, &out, &[]);
     let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
     assert!(!o.status.success(), "{text}");
+    // The end asked for is named, not the first snapshot past the reach (10¹⁹) where the
+    // run found it could not go on.
     assert!(
-        err.contains("the run went on to t = ") && err.contains("and stopped there"),
+        err.contains("error: t = 1e20 is beyond what the simulation can reach")
+            && err.contains("the run went on to t = ")
+            && err.contains("and stopped there"),
         "{err}"
     );
     assert!(
-        text.contains("stopped      short of the end asked for: "),
+        text.contains("stopped      short of the end asked for: t = 1e20 is beyond"),
         "{text}"
     );
     let summary: serde_json::Value =

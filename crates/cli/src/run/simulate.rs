@@ -171,9 +171,22 @@ impl Run {
             self.counters.simulated += start.elapsed().as_secs_f64();
             let finished = match advanced {
                 Ok(done) => done && !crate::interrupt::requested(),
-                Err(e @ SimError::Flown { reachable, .. }) => {
+                Err(SimError::Flown {
+                    sphere,
+                    since,
+                    reachable,
+                    ..
+                }) => {
                     bar.finish();
-                    return Err(self.stop_short(reachable, e)?.into());
+                    // Refused at a stop on the way (a snapshot's time): the end asked for is
+                    // past the reach too, and it is what the user named.
+                    let refused = SimError::Flown {
+                        sphere,
+                        time: t_end,
+                        since,
+                        reachable,
+                    };
+                    return Err(self.stop_short(reachable, refused)?.into());
                 }
                 Err(e) => return Err(e.into()),
             };
