@@ -81,7 +81,14 @@ fn a_run_refuses_another_runs_directory_unless_forced_and_never_mixes_them() {
     std::fs::write(out.join("summary.json"), b"{}").unwrap();
     let o = output(&b, &out, &[]);
     assert!(
-        stderr(&o).contains("no summary.json naming it"),
+        stderr(&o).contains("its summary.json naming no run this version reads"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_file(out.join("summary.json")).unwrap();
+    let o = output(&b, &out, &[]);
+    assert!(
+        stderr(&o).contains("and no summary.json naming it"),
         "{}",
         stderr(&o)
     );

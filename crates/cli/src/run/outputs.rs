@@ -155,6 +155,10 @@ impl OutDir {
                     "the outputs of this same scene and options, complete: nothing to do".into()
                 }
                 Some(m) => format!("the outputs of another run ({})", m.describe()),
+                None if self.file(SUMMARY).exists() => "the files of another run, its \
+                    summary.json naming no run this version reads (one of an earlier version, \
+                    or another program's)"
+                    .into(),
                 None => "the files of another run, and no summary.json naming it (an \
                          unfinished run, or one of an earlier version)"
                     .into(),
