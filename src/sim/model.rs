@@ -198,7 +198,7 @@ pub enum SimError {
     },
     /// Two spheres overlap at the start by more than the engine's tolerance.
     #[error(
-        "spheres {a} and {b} overlap by {depth:e} (more than {tolerance:e} of their contact distance)"
+        "spheres {a} and {b} overlap by {depth:e} (a length in the scene's units; the tolerance is {tolerance:e} of their contact distance)"
     )]
     Overlap {
         /// One sphere.
