@@ -16,6 +16,36 @@ use spheresweep::sim::{
     Effects, MaterialPair, Response, SimError, Simulation, SphereState, World, generate,
 };
 
+/// More spheres than a scene file may give (10¹⁵ from one lattice) are refused for the count,
+/// naming the block's line and the limit, by `run` and `render` alike, not for the memory
+/// they would take (which suggests more memory would do).
+#[test]
+fn a_block_of_more_spheres_than_a_scene_may_give_is_refused_for_its_count() {
+    let dir = scratch("count-scene");
+    let scene = dir.join("huge.toml");
+    std::fs::write(
+        &scene,
+        "[run]\nt_end = 1\n\n[[generate]]\nkind = \"lattice\"\nlo = [0, 0, 0]\n\
+         counts = [100000, 100000, 100000]\nspacing = 2\nradius = 0.5\n",
+    )
+    .unwrap();
+    for command in ["run", "render"] {
+        let out = bin()
+            .args([command, "--out"])
+            .arg(dir.join(command))
+            .arg(&scene)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{command}: {err}");
+        assert!(
+            err.contains("huge.toml:7: generate 0 (lattice): counts must give between 1 and")
+                && !err.contains("GiB"),
+            "{command}: {err}"
+        );
+    }
+}
+
 #[test]
 fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
     let dir = scratch("memory-scene");
