@@ -676,6 +676,8 @@ fn report_only_first_contacts_match_the_scene_query() {
     sim.advance_to(t_max).unwrap();
     let mut seen = vec![None; 300];
     for ev in sim.take_events() {
+        // Nothing is applied: no coefficient, not the 0 of a sticky join.
+        assert!(ev.restitution.is_nan(), "{ev:?}");
         let j = ev.other.index as usize;
         for (a, b) in [(ev.sphere as usize, j), (j, ev.sphere as usize)] {
             seen[a].get_or_insert((ev.time, b));

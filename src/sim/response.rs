@@ -104,7 +104,7 @@ pub(crate) struct Outcome {
     pub virial: f64,
     /// Normal approach speed before the collision.
     pub approach: f64,
-    /// Restitution applied (`0` for sticky).
+    /// Restitution applied (`0` for sticky; NaN report-only, which applies none).
     pub restitution: f64,
     /// Whether two clusters (or a cluster and a wall) joined.
     pub joined: bool,
@@ -335,11 +335,13 @@ impl Responder for ReportOnly {
         self.partner[j as usize] = i;
         let dv = m.bodies[j as usize].v - m.bodies[i as usize].v;
         out.approach = -dv.dot(dr.normalize_or_zero());
+        out.restitution = f64::NAN;
         out.changed.extend([i, j]);
     }
     fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, _now: f64, out: &mut Outcome) {
         self.shape[i as usize] = wall.body;
         out.approach = -m.bodies[i as usize].v.dot(wall.n);
+        out.restitution = f64::NAN;
         out.changed.push(i);
     }
     #[inline(always)]

@@ -291,7 +291,7 @@ fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
     let huge = dir.join("huge.toml");
     std::fs::write(
         &huge,
-        "[run]\nt_end = 1\n\n[[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n\n[[generate]]\nkind = \"lattice\"\nlo = [0, 0, 1]\ncounts = [1000, 1000, 1000]\nspacing = 1.0\nradius = 0.4\n",
+        "[run]\nt_end = 1\n\n[[plane]]\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n\n[[generate]]\nkind = \"lattice\"\nlo = [0, 0, 1]\ncounts = [600, 600, 600]\nspacing = 1.0\nradius = 0.4\n",
     )
     .unwrap();
     let out = bin()
@@ -304,7 +304,7 @@ fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
-        err.contains("1000000000 spheres") && err.contains("needs about"),
+        err.contains("216000000 spheres") && err.contains("needs about"),
         "{err}"
     );
     assert!(!dir.join("pictures").exists());
@@ -321,7 +321,7 @@ fn render_and_shapes_files_refuse_scenes_too_large_for_memory() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
-        err.contains("1000000000 spheres") && err.contains("huge.toml"),
+        err.contains("216000000 spheres") && err.contains("huge.toml"),
         "{err}"
     );
     let _ = std::fs::remove_dir_all(&dir);
