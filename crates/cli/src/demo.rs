@@ -27,8 +27,8 @@ pub struct Args {
     #[arg(long)]
     table: bool,
     /// With the table: end of the time window [0, t_max] (zero or more; inf for no end)
-    /// [default: 10].
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    /// [default: 10]; rounded down to the kernels' f32.
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = crate::number::window_end)]
     t_max: Option<f32>,
     /// With the table: accuracy mode of the kernels, textbook, stable or double [default:
     /// stable].

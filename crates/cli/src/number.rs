@@ -12,9 +12,39 @@ pub fn counted(n: u64, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
+/// A time window's end as the kernels take it: the largest `f32` not above the number given
+/// (`3.9999999` is `3.9999998`, not the nearer `4`), so that no contact after the time asked
+/// for is reported; `inf` and numbers past `f32::MAX` as written (`f32::MAX` for a finite one).
+/// What is refused (below zero, NaN) is the query options' to say.
+pub fn window_end(text: &str) -> Result<f32, String> {
+    let t: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    let rounded = t as f32;
+    Ok(if f64::from(rounded) > t {
+        rounded.next_down()
+    } else {
+        rounded
+    })
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{counted, num};
+    use super::{counted, num, window_end};
+
+    #[test]
+    fn a_window_end_rounds_down_to_f32() {
+        assert_eq!(window_end("3.9999999"), Ok(4.0f32.next_down()));
+        assert_eq!(window_end("4"), Ok(4.0));
+        assert_eq!(window_end("0.1"), Ok(0.1f32.next_down()));
+        assert!(f64::from(window_end("0.1").unwrap()) < 0.1);
+        assert_eq!(window_end("1e39"), Ok(f32::MAX));
+        assert_eq!(window_end("inf"), Ok(f32::INFINITY));
+        assert!(window_end("-1").unwrap() < 0.0);
+        assert!(window_end("nan").unwrap().is_nan());
+        assert!(window_end("soon").is_err());
+    }
 
     #[test]
     fn one_is_singular_and_every_other_count_plural() {

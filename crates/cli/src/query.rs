@@ -68,8 +68,9 @@ pub struct Args {
     #[arg(long, default_value_t = Accuracy::Stable)]
     accuracy: Accuracy,
     /// End of the time window [0, t_max], in the input's time unit (its lengths over its
-    /// speeds): zero or more, inf for no end.
-    #[arg(long, default_value_t = f32::INFINITY, allow_negative_numbers = true)]
+    /// speeds): zero or more, inf for no end; rounded down to the kernels' f32, so that no
+    /// contact after it is reported.
+    #[arg(long, default_value_t = f32::INFINITY, allow_negative_numbers = true, value_parser = crate::number::window_end)]
     t_max: f32,
     /// Also write the contact point and normal of every contact (px, py, pz, nx, ny, nz).
     #[arg(long)]

@@ -1553,3 +1553,29 @@ fn query_listing(dir: &std::path::Path) -> Vec<String> {
     names.sort();
     names
 }
+
+/// `--t-max` is rounded down to the kernels' f32, never up: a pair meeting at exactly 4 is not
+/// reported for a window ending at 3.9999999 (whose nearest f32 is 4), and the summary names
+/// the window used.
+#[test]
+fn a_window_end_is_rounded_down_to_f32() {
+    let dir = scratch("query-window");
+    let input = dir.join("pair.csv");
+    // A gap of 8 closed at speed 2: contact at t = 4, exactly.
+    write_csv(
+        &input,
+        &PAIR_COLUMNS,
+        &[[0., 0., 0., 0., 0., 0., 1., 10., 0., 0., -2., 0., 0., 1.]],
+    );
+    for (t_max, want) in [("4", "4.0"), ("3.9999999", "inf")] {
+        let out = dir.join(format!("{t_max}.csv"));
+        let stdout = query(&[path_str(&input), "--t-max", t_max, "--out", path_str(&out)]);
+        let (_, columns) = read_csv(&out);
+        assert_eq!(columns[0], [want], "--t-max {t_max}");
+        let used = if t_max == "4" { "4" } else { "3.9999998" };
+        assert!(
+            summary(&stdout, "query").contains(&format!("t_max {used},")),
+            "{stdout}"
+        );
+    }
+}
