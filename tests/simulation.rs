@@ -873,3 +873,39 @@ fn a_scene_computes_alike_at_any_units_within_the_range() {
         assert!(e.starts_with(&want), "{e}");
     }
 }
+
+/// In a periodic box an event's contact point lies in the box, as the trajectory's centres do:
+/// two spheres meeting across the face at x = 0 (centres at 0.4 and, through the face, −0.6)
+/// touch at x = −0.1, recorded as 5.9 whichever of them the event names.
+#[test]
+fn a_contact_across_a_periodic_face_is_recorded_in_the_box() {
+    let ball = |x: f64, vx: f64| SphereState {
+        centre: DVec3::new(x, 3.0, 3.0),
+        velocity: DVec3::new(vx, 0.0, 0.0),
+        radius: 0.5,
+        mass: 1.0,
+        material: 0,
+    };
+    for (a, b) in [(0, 1), (1, 0)] {
+        let pair = [ball(0.6, -1.0), ball(5.4, 0.0)];
+        let w = World {
+            spheres: vec![pair[a], pair[b]],
+            boundary: Boundary::Periodic {
+                size: DVec3::splat(6.0),
+            },
+            effects: Effects {
+                record_events: true,
+                geometry: true,
+                ..Effects::default()
+            },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(w).unwrap();
+        sim.advance_to(0.5).unwrap();
+        let events = sim.take_events();
+        let first = events.first().expect("they meet at t = 0.2");
+        let g = first.geometry.expect("geometry recorded");
+        assert!((first.time - 0.2).abs() < 1e-12, "{first:?}");
+        assert!((g.point.x - 5.9).abs() < 1e-12, "{first:?}");
+    }
+}

@@ -565,7 +565,7 @@ impl<
         if let Some(log) = &mut self.log {
             let geometry = GEOMETRY.then(|| {
                 let n = dr.normalize();
-                (bi.r + n * bi.radius, -n)
+                (wrapped::<PERIODIC>(&self.cells, bi.r + n * bi.radius), -n)
             });
             let (a, b) = (self.id_of[i as usize], self.id_of[j as usize]);
             log.push(EventRecord::new(
@@ -616,7 +616,8 @@ impl<
         self.stats.wall_collisions += 1;
         self.account();
         if let Some(log) = &mut self.log {
-            let geometry = GEOMETRY.then(|| (bi.r - n * bi.radius, n));
+            let geometry =
+                GEOMETRY.then(|| (wrapped::<PERIODIC>(&self.cells, bi.r - n * bi.radius), n));
             log.push(EventRecord::new(
                 now,
                 self.id_of[i as usize],
@@ -896,4 +897,11 @@ impl<
         self.reschedule();
         Ok(())
     }
+}
+
+/// A point in the periodic box, as the trajectory writes centres (elsewhere as it is): an
+/// event's contact point lies in the box with the spheres it is drawn with.
+#[inline]
+fn wrapped<const PERIODIC: bool>(cells: &Cells, p: DVec3) -> DVec3 {
+    if PERIODIC { cells.wrap(p) } else { p }
 }
