@@ -909,3 +909,83 @@ fn a_contact_across_a_periodic_face_is_recorded_in_the_box() {
         assert!((g.point.x - 5.9).abs() < 1e-12, "{first:?}");
     }
 }
+
+/// In a periodic box a sphere that has wrapped across a face still meets the static shapes
+/// (which have no images): leaving through x = 0 toward −x it comes back at x = 10 and meets a
+/// pillar at x = 5 (surface at 6) at t = 2 + 3.5; leaving through z = 0 it meets a plane at
+/// z = 5 from above at t = 2 + 4.5. Before, its static contact was not predicted again after
+/// the wrap, and it went through both.
+#[test]
+fn a_sphere_wrapped_across_a_face_still_meets_the_static_shapes() {
+    let size = DVec3::splat(10.0);
+    let pillar = Cylinder::new([5.0, 5.0, 0.0], [5.0, 5.0, 1.0], 1.0).unwrap();
+    let plane = Plane::new([0.0, 0.0, 5.0], [0.0, 0.0, 1.0]).unwrap();
+    for (statics, centre, velocity, meets) in [
+        (
+            Statics::new().with(pillar, 0),
+            [2.0, 5.0, 5.0],
+            [-1.0, 0.0, 0.0],
+            5.5,
+        ),
+        (
+            Statics::new().with(plane, 0),
+            [2.0, 2.0, 2.0],
+            [0.0, 0.0, -1.0],
+            6.5,
+        ),
+    ] {
+        let w = World {
+            spheres: vec![SphereState {
+                centre: DVec3::from_array(centre),
+                velocity: DVec3::from_array(velocity),
+                radius: 0.5,
+                mass: 1.0,
+                material: 0,
+            }],
+            statics,
+            boundary: Boundary::Periodic { size },
+            effects: Effects {
+                record_events: true,
+                ..Effects::default()
+            },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(w).unwrap();
+        sim.advance_to(meets + 0.5).unwrap();
+        let events = sim.take_events();
+        assert_eq!(events.len(), 1, "{events:?}");
+        assert!((events[0].time - meets).abs() < 1e-12, "{events:?}");
+        sim.check_invariant().unwrap();
+    }
+}
+
+/// A periodic sphere's unwrapped centre, `centre + images · size`, follows its line at every
+/// time read, not only after its shell event counts the crossing.
+#[test]
+fn the_unwrapped_centre_follows_the_line_between_shell_events() {
+    let size = DVec3::splat(4.0);
+    let w = World {
+        spheres: vec![SphereState {
+            centre: DVec3::splat(2.0),
+            velocity: DVec3::new(1.0, 0.25, -0.5),
+            radius: 0.5,
+            mass: 1.0,
+            material: 0,
+        }],
+        boundary: Boundary::Periodic { size },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    for k in 1..200 {
+        let t = 0.05 * f64::from(k);
+        sim.advance_to(t).unwrap();
+        let (centre, images) = (sim.spheres()[0].centre, sim.images()[0]);
+        let unwrapped =
+            centre + DVec3::new(images[0] as f64, images[1] as f64, images[2] as f64) * size;
+        let line = DVec3::splat(2.0) + DVec3::new(1.0, 0.25, -0.5) * t;
+        assert!(
+            (unwrapped - line).abs().max_element() < 1e-12,
+            "t = {t}: {unwrapped} {line}"
+        );
+    }
+}

@@ -470,6 +470,7 @@ impl<
         self.stats.crossings += 1;
         let anchor = self.m.bodies[i as usize];
         self.advance(i);
+        let mut wrapped = false;
         if PERIODIC {
             let len = self.cells.len;
             let r = &mut self.m.bodies[i as usize].r;
@@ -477,9 +478,11 @@ impl<
                 if r[k] < 0.0 {
                     r[k] += len[k];
                     self.images[i as usize][k] -= 1;
+                    wrapped = true;
                 } else if r[k] >= len[k] {
                     r[k] -= len[k];
                     self.images[i as usize][k] += 1;
+                    wrapped = true;
                 }
             }
         }
@@ -492,7 +495,10 @@ impl<
             self.cells.insert(i, c);
         }
         self.rebuild_list(i, c, self.once_per_list);
-        if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond {
+        // A wrapped sphere's static contacts were predicted from its place a box length away,
+        // where the shapes (which have no images) are not: they are predicted again with all.
+        if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond || WALLS && wrapped
+        {
             self.predict(i);
         } else {
             let horizon = self.predict_shell(i);
@@ -768,7 +774,7 @@ impl<
     /// Where body `b` is at time `t` (unwrapped): on its parabola under gravity, else on its
     /// line (the parabola with `g = 0` is NaN once `Δt²` overflows, past `Δt ≈ 10¹⁵⁴`).
     #[inline(always)]
-    fn centre_at(&self, b: &Trajectory, t: f64) -> DVec3 {
+    pub(super) fn centre_at(&self, b: &Trajectory, t: f64) -> DVec3 {
         if GRAVITY {
             b.at(t, self.m.g).0
         } else {

@@ -74,7 +74,7 @@ pub(crate) fn check(
     sides: &[bool],
 ) -> Result<(f64, f64), Breach> {
     let pairs = check_pairs(bodies, cells, periodic)?;
-    let walls = check_walls(bodies, walls, sides)?;
+    let walls = check_walls(bodies, walls, sides, periodic)?;
     Ok((pairs, walls))
 }
 
@@ -148,17 +148,26 @@ fn neighbour(cells: &Cells, c: [i32; 3], offset: usize, periodic: bool) -> Optio
     Some(cells.index(out))
 }
 
-/// Every sphere against every static shape.
-fn check_walls(bodies: &[Trajectory], walls: &Statics<u16>, sides: &[bool]) -> Result<f64, Breach> {
+/// Every sphere against every static shape. In a periodic box a plane is checked on the side
+/// the sphere is on now: a sphere that wraps across a face comes back on the plane's other side
+/// (it meets the plane's image there, as the engine predicts), so its side at the start says
+/// nothing; its overlap is still checked.
+fn check_walls(
+    bodies: &[Trajectory],
+    walls: &Statics<u16>,
+    sides: &[bool],
+    periodic: bool,
+) -> Result<f64, Breach> {
     let mut worst = f64::NEG_INFINITY;
     let count = walls.len();
     for (i, b) in bodies.iter().enumerate() {
         let tolerance = OVERLAP_TOLERANCE * b.radius;
         for (k, (body, shape, _)) in walls.iter().enumerate() {
-            let side = sides
-                .get(i * count + k)
-                .copied()
-                .unwrap_or_else(|| shape.side(b.r));
+            let started = sides.get(i * count + k).copied();
+            let side = match started {
+                Some(side) if !(periodic && body.kind == crate::ShapeKind::Plane) => side,
+                _ => shape.side(b.r),
+            };
             // On its own side of a plane: `radius − |d|` deep; across: the whole way back.
             let depth = -shape.gap_on_side(b.r, b.radius, side);
             if depth <= tolerance {

@@ -128,7 +128,11 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
     fn images(&self) -> Vec<[i64; 3]> {
         let mut out = vec![[0; 3]; self.images.len()];
         for (k, &id) in self.id_of.iter().enumerate().take(self.images.len()) {
-            out[id as usize] = self.images[k];
+            // A centre is counted across a face at its shell event but wrapped whenever it is
+            // read (`current`): the box lengths that read takes off are crossings too.
+            let r = self.centre_at(&self.m.bodies[k], self.now);
+            let since = (r / self.cells.len).floor();
+            out[id as usize] = std::array::from_fn(|a| self.images[k][a] + since[a] as i64);
         }
         out
     }
