@@ -989,3 +989,45 @@ fn the_unwrapped_centre_follows_the_line_between_shell_events() {
         );
     }
 }
+
+/// New velocities are held to the range a new world is: a component past 2¹⁰⁰ is refused
+/// naming the sphere (it was taken, and the next advance stalled with a misleading message),
+/// and so is a scene whose fastest sphere would move slower than 2⁻¹⁰⁰; nothing changes then.
+#[test]
+fn new_velocities_out_of_range_are_refused_naming_the_sphere() {
+    let ball = |x: f64| SphereState {
+        centre: DVec3::new(x, 0.0, 0.0),
+        velocity: DVec3::ZERO,
+        radius: 1.0,
+        mass: 1.0,
+        material: 0,
+    };
+    let w = World {
+        spheres: vec![ball(0.0), ball(3.0)],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    let err = sim
+        .set_velocities(&[DVec3::new(1e200, 0.0, 0.0), DVec3::ZERO])
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            SimError::Sphere {
+                index: 0,
+                field: "velocity",
+                ..
+            }
+        ) && err.to_string().contains("outside the range"),
+        "{err}"
+    );
+    let err = sim
+        .set_velocities(&[DVec3::ZERO, DVec3::new(0.0, 1e-40, 0.0)])
+        .unwrap_err();
+    assert!(matches!(err, SimError::Range { .. }), "{err}");
+    assert_eq!(sim.spheres()[0].velocity, DVec3::ZERO);
+    sim.set_velocities(&[DVec3::new(1.0, 0.0, 0.0), DVec3::ZERO])
+        .unwrap();
+    sim.advance_to(2.0).unwrap();
+    assert_eq!(sim.stats().pair_collisions, 1);
+}

@@ -158,7 +158,9 @@ impl Simulation {
     ///
     /// # Errors
     /// [`SimError::State`] for a wrong count or a rule above broken, [`SimError::Sphere`] for
-    /// a value that is not finite; nothing is changed then.
+    /// a value that is not finite or has a component beyond [`MAX_MAGNITUDE`],
+    /// [`SimError::Range`] when the fastest moves slower than [`MIN_MAGNITUDE`] (as a new world
+    /// is refused); nothing is changed then.
     ///
     /// ```
     /// use glam::DVec3;
@@ -189,6 +191,23 @@ impl Simulation {
                 index,
                 field: "velocity",
                 problem: crate::error::Problem::NotFinite,
+            });
+        }
+        // The range a new world is held to (`World::validate`): past it, the engine's
+        // arithmetic overflows or its watchdog stalls.
+        if let Some(index) = velocities.iter().position(|&v| !model::bounded3(v)) {
+            return Err(SimError::Sphere {
+                index,
+                field: "velocity",
+                problem: crate::error::Problem::OutOfRange,
+            });
+        }
+        let fastest = velocities
+            .iter()
+            .fold(0.0, |m, v| v.abs().max_element().max(m));
+        if fastest > 0.0 && fastest < MIN_MAGNITUDE {
+            return Err(SimError::Range {
+                what: OutOfRange::FastestSphere,
             });
         }
         self.engine.set_velocities(velocities)
