@@ -1031,3 +1031,31 @@ fn new_velocities_out_of_range_are_refused_naming_the_sphere() {
     sim.advance_to(2.0).unwrap();
     assert_eq!(sim.stats().pair_collisions, 1);
 }
+
+/// A sticky cluster given members of different velocities is refused naming the velocity to
+/// give, in short form (`1e25`, not 26 digits).
+#[test]
+fn a_cluster_given_two_velocities_is_refused_with_short_numbers() {
+    let ball = |x: f64, vx: f64| SphereState {
+        centre: DVec3::new(x, 0.0, 0.0),
+        velocity: DVec3::new(vx, 0.0, 0.0),
+        radius: 1.0,
+        mass: 1.0,
+        material: 0,
+    };
+    let w = World {
+        spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+        effects: Effects {
+            response: Response::Sticky,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.advance_to(1.0).unwrap();
+    let err = sim
+        .set_velocities(&[DVec3::new(1e25, 0.0, 0.0), DVec3::ZERO])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("([1e25, 0, 0])") && err.len() < 200, "{err}");
+}

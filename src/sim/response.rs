@@ -9,6 +9,7 @@ use super::checkpoint::{Decoder, Encoder};
 use super::model::{Response, SimError};
 use super::persist::Persist;
 use crate::contact::Body;
+use crate::error::Num;
 use crate::shape::ShapeKind;
 
 /// One sphere's straight-line trajectory, f64: centre `r` at its own time `t`, velocity,
@@ -675,7 +676,11 @@ impl Responder for Materials {
                     return Err((
                         s,
                         format!(
-                            "a cluster moves as one: give it the velocity of its other members ({first})"
+                            "a cluster moves as one: give it the velocity of its other members \
+                             ([{}, {}, {}])",
+                            Num(first.x),
+                            Num(first.y),
+                            Num(first.z)
                         ),
                     ));
                 }
