@@ -699,6 +699,9 @@ def _scene_inputs(centres, velocities, radii, masses):
         raise ValueError(
             f"velocities and radii: {len(v)} and {len(r)} rows, but centres has {len(c)}"
         )
+    # Validated as given, before the rounding below can turn a finite value past float32's
+    # range into an infinity (and the message into "NaN or infinite"): the binding names it.
+    _native().Spheres(c, v, r, masses)
     # Rounded to float32 once, here: the workers and a single-process query see the same bits.
     conv = [
         np.ascontiguousarray(a, dtype=np.float32) if a.dtype.kind == "f" else a for a in (c, v, r)

@@ -381,3 +381,16 @@ def test_without_dask_the_helpers_say_what_to_install():
     assert out.returncode == 0, out.stderr
     assert out.stdout.startswith("spheresweep.distributed needs distributed, which is not installed: "
                                  "pip install 'spheresweep[distributed]'"), out.stdout
+
+
+def test_a_scene_value_past_float32_is_named_as_the_binding_names_it(client):
+    # Validated before the rounding to float32 (which made 1e300 an infinity, warned of by
+    # NumPy, and named it "NaN or infinite").
+    centres = np.random.default_rng(3).random((100, 3))
+    centres[99] = [1e300, 0, 0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"centres\[99, 0\]: 1e300 is beyond float32"):
+            sd.all_contacts(
+                centres, np.zeros((100, 3)), np.full(100, 0.1), t_max=1.0, client=client
+            )
