@@ -43,6 +43,36 @@ pub(crate) fn put_column(
 }
 
 /// `pandas.DataFrame(columns)`, with an install hint if pandas is missing.
+/// Refuses result columns that do not line up: each 1-D column as long as `time` (`n` rows),
+/// `point` and `normal` both given or neither, each `(n, 3)`, naming the column.
+fn same_rows(
+    py: Python<'_>,
+    n: usize,
+    columns: &[(&str, usize)],
+    point: &Option<Py<PyArray2<f32>>>,
+    normal: &Option<Py<PyArray2<f32>>>,
+) -> PyResult<()> {
+    let bad = |m: String| Err(pyo3::exceptions::PyValueError::new_err(m));
+    for &(name, len) in columns {
+        if len != n {
+            return bad(format!("{name}: {len} rows, but time has {n}"));
+        }
+    }
+    match (point, normal) {
+        (None, None) => Ok(()),
+        (Some(p), Some(q)) => {
+            for (name, a) in [("point", p), ("normal", q)] {
+                let shape = a.bind(py).shape().to_vec();
+                if shape != [n, 3] {
+                    return bad(format!("{name}: shape {shape:?}, expected [{n}, 3]"));
+                }
+            }
+            Ok(())
+        }
+        _ => bad("point and normal: give both (the contact geometry) or neither".into()),
+    }
+}
+
 pub(crate) fn data_frame<'py>(columns: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
     let pandas = columns.py().import("pandas").map_err(|e| {
         PyImportError::new_err(format!(
@@ -82,19 +112,25 @@ impl FirstContacts {
     #[new]
     #[pyo3(signature = (time, kind, index, point = None, normal = None))]
     fn new(
+        py: Python<'_>,
         time: Py<PyArray1<f32>>,
         kind: Py<PyArray1<u8>>,
         index: Py<PyArray1<i64>>,
         point: Option<Py<PyArray2<f32>>>,
         normal: Option<Py<PyArray2<f32>>>,
-    ) -> Self {
-        Self {
+    ) -> PyResult<Self> {
+        let rows = [
+            ("kind", kind.bind(py).len()),
+            ("index", index.bind(py).len()),
+        ];
+        same_rows(py, time.bind(py).len(), &rows, &point, &normal)?;
+        Ok(Self {
             time,
             kind,
             index,
             point,
             normal,
-        }
+        })
     }
 
     fn __len__(&self, py: Python<'_>) -> usize {
@@ -184,21 +220,28 @@ impl Contacts {
     #[new]
     #[pyo3(signature = (time, sphere, kind, index, point = None, normal = None))]
     fn new(
+        py: Python<'_>,
         time: Py<PyArray1<f32>>,
         sphere: Py<PyArray1<u32>>,
         kind: Py<PyArray1<u8>>,
         index: Py<PyArray1<i64>>,
         point: Option<Py<PyArray2<f32>>>,
         normal: Option<Py<PyArray2<f32>>>,
-    ) -> Self {
-        Self {
+    ) -> PyResult<Self> {
+        let rows = [
+            ("sphere", sphere.bind(py).len()),
+            ("kind", kind.bind(py).len()),
+            ("index", index.bind(py).len()),
+        ];
+        same_rows(py, time.bind(py).len(), &rows, &point, &normal)?;
+        Ok(Self {
             time,
             sphere,
             kind,
             index,
             point,
             normal,
-        }
+        })
     }
 
     fn __len__(&self, py: Python<'_>) -> usize {

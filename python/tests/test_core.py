@@ -550,3 +550,22 @@ def test_shapes_and_spheres_accept_integers(ints):
     wall = ss.Plane(ints([5, 0, 0]), ints([-2, 0, 0]))
     for accuracy in ss.ACCURACIES:
         assert ss.static_times(s, [wall], accuracy=accuracy)[0, 0] == 4.0
+
+
+def test_result_columns_that_do_not_line_up_are_refused():
+    t, k, i = np.zeros(3, np.float32), np.zeros(3, np.uint8), np.zeros(3, np.int64)
+    ss.FirstContacts(t, k, i)  # lined up: taken
+    with pytest.raises(ValueError, match=r"kind: 2 rows, but time has 3"):
+        ss.FirstContacts(t, np.zeros(2, np.uint8), i)
+    with pytest.raises(ValueError, match=r"index: 5 rows, but time has 3"):
+        ss.Contacts(t, np.zeros(3, np.uint32), k, np.zeros(5, np.int64))
+    g = np.zeros((3, 3), np.float32)
+    with pytest.raises(ValueError, match=r"give both"):
+        ss.FirstContacts(t, k, i, g)
+    with pytest.raises(ValueError, match=r"normal: shape \[2, 3\], expected \[3, 3\]"):
+        ss.FirstContacts(t, k, i, g, np.zeros((2, 3), np.float32))
+    # What a query returns still pickles and rebuilds.
+    scene = ss.Scene(ss.Spheres([[0, 0, 0], [3, 0, 0]], [[1, 0, 0], [-1, 0, 0]], [1.0, 1.0]))
+    for r in (ss.first_contacts(scene, t_max=2, geometry=True), ss.all_contacts(scene, t_max=2)):
+        back = pickle.loads(pickle.dumps(r))
+        assert len(back) == len(r)
