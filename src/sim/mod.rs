@@ -129,8 +129,9 @@ impl Simulation {
     }
 
     /// How many times each sphere has crossed each face of a periodic box (`+1` out through
-    /// the upper face, `−1` through the lower), in sphere order: its unwrapped centre is
-    /// `centre + images · size` (for a mean-squared displacement). All zero in open space.
+    /// the upper face, `−1` through the lower), in sphere order, up to now: its unwrapped centre
+    /// is `centre + images · size`, which follows its path at every time read (for a
+    /// mean-squared displacement). All zero in open space.
     ///
     /// ```
     /// use spheresweep::sim::{Boundary, Simulation, World, generate};
