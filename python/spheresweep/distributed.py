@@ -716,7 +716,8 @@ def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, co
                  t_max, accuracy, geometry, partitions, axis, halo, client):
     client = _client_or_current(client)
     c, v, r, m = _scene_inputs(centres, velocities, radii, masses)
-    # Validated once on the client, so a bad sphere is named by its global index.
+    # Validated on the client (the spheres as given in `_scene_inputs`, the shapes here), so a
+    # bad sphere is named by its global index.
     ss = _native()
     ss.Scene(ss.Spheres(c, v, r, m), planes, cylinders, containers)
     shapes = (

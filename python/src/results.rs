@@ -42,7 +42,6 @@ pub(crate) fn put_column(
     }
 }
 
-/// `pandas.DataFrame(columns)`, with an install hint if pandas is missing.
 /// Refuses result columns that do not line up: each 1-D column as long as `time` (`n` rows),
 /// `point` and `normal` both given or neither, each `(n, 3)`, naming the column.
 fn same_rows(
@@ -73,6 +72,7 @@ fn same_rows(
     }
 }
 
+/// `pandas.DataFrame(columns)`, with an install hint if pandas is missing.
 pub(crate) fn data_frame<'py>(columns: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
     let pandas = columns.py().import("pandas").map_err(|e| {
         PyImportError::new_err(format!(

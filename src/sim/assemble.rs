@@ -384,7 +384,7 @@ fn check_start(
     periodic: bool,
     walls: &Statics<u16>,
 ) -> Result<(), SimError> {
-    match invariant::check(&m.bodies, cells, periodic, walls, &[]) {
+    match invariant::check(&m.bodies, cells, periodic, walls, &[], &[]) {
         Ok(_) => Ok(()),
         Err(b) if b.other.kind == crate::ShapeKind::Sphere => Err(SimError::Overlap {
             a: b.sphere,

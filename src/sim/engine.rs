@@ -470,7 +470,7 @@ impl<
         self.stats.crossings += 1;
         let anchor = self.m.bodies[i as usize];
         self.advance(i);
-        let mut wrapped = false;
+        let mut crossed = false;
         if PERIODIC {
             let len = self.cells.len;
             let r = &mut self.m.bodies[i as usize].r;
@@ -478,11 +478,11 @@ impl<
                 if r[k] < 0.0 {
                     r[k] += len[k];
                     self.images[i as usize][k] -= 1;
-                    wrapped = true;
+                    crossed = true;
                 } else if r[k] >= len[k] {
                     r[k] -= len[k];
                     self.images[i as usize][k] += 1;
-                    wrapped = true;
+                    crossed = true;
                 }
             }
         }
@@ -497,7 +497,10 @@ impl<
         self.rebuild_list(i, c, self.once_per_list);
         // A wrapped sphere's static contacts were predicted from its place a box length away,
         // where the shapes (which have no images) are not: they are predicted again with all.
-        if self.prune(i) || !self.once_per_list || self.best[i as usize].beyond || WALLS && wrapped
+        if self.prune(i)
+            || !self.once_per_list
+            || self.best[i as usize].beyond
+            || (WALLS && crossed)
         {
             self.predict(i);
         } else {

@@ -72,9 +72,10 @@ pub(crate) fn check(
     periodic: bool,
     walls: &Statics<u16>,
     sides: &[bool],
+    images: &[[i64; 3]],
 ) -> Result<(f64, f64), Breach> {
     let pairs = check_pairs(bodies, cells, periodic)?;
-    let walls = check_walls(bodies, walls, sides, periodic)?;
+    let walls = check_walls(bodies, walls, sides, images)?;
     Ok((pairs, walls))
 }
 
@@ -148,25 +149,29 @@ fn neighbour(cells: &Cells, c: [i32; 3], offset: usize, periodic: bool) -> Optio
     Some(cells.index(out))
 }
 
-/// Every sphere against every static shape. In a periodic box a plane is checked on the side
-/// the sphere is on now: a sphere that wraps across a face comes back on the plane's other side
-/// (it meets the plane's image there, as the engine predicts), so its side at the start says
-/// nothing; its overlap is still checked.
+/// Every sphere against every static shape. In a periodic box (`images`, each sphere's face
+/// crossings, in the order of `bodies`; empty elsewhere) a sphere that wraps across the faces
+/// a plane's normal crosses comes back on the plane's other side in the box, where it meets
+/// the plane's image: its side flips with each such crossing.
 fn check_walls(
     bodies: &[Trajectory],
     walls: &Statics<u16>,
     sides: &[bool],
-    periodic: bool,
+    images: &[[i64; 3]],
 ) -> Result<f64, Breach> {
     let mut worst = f64::NEG_INFINITY;
     let count = walls.len();
     for (i, b) in bodies.iter().enumerate() {
         let tolerance = OVERLAP_TOLERANCE * b.radius;
         for (k, (body, shape, _)) in walls.iter().enumerate() {
-            let started = sides.get(i * count + k).copied();
-            let side = match started {
-                Some(side) if !(periodic && body.kind == crate::ShapeKind::Plane) => side,
-                _ => shape.side(b.r),
+            let side = match (sides.get(i * count + k), shape, images.get(i)) {
+                (Some(&side), crate::Static::Plane(p), Some(crossed)) => {
+                    // A plane in a periodic box has its normal along a box axis.
+                    let n = p.normal().as_dvec3().abs();
+                    side ^ (crossed[n.max_position()] % 2 != 0)
+                }
+                (Some(&side), _, _) => side,
+                (None, _, _) => shape.side(b.r),
             };
             // On its own side of a plane: `radius − |d|` deep; across: the whole way back.
             let depth = -shape.gap_on_side(b.r, b.radius, side);
@@ -216,7 +221,7 @@ mod tests {
             body(DVec3::new(6.0, 5.0, 6.0), 0.5),
         ];
         let sides = sides(&apart, &walls);
-        let (pairs, w) = check(&apart, &grid(), false, &walls, &sides).unwrap();
+        let (pairs, w) = check(&apart, &grid(), false, &walls, &sides, &[]).unwrap();
         assert_eq!(pairs, 0.0); // touching exactly
         assert!(w <= 0.0, "{w}");
         // Overlapping by 2⁻¹⁴ of the contact distance: 4 times the tolerance.
@@ -224,19 +229,34 @@ mod tests {
             apart[0],
             body(DVec3::new(6.0 - 1.0 / 16384.0, 5.0, 6.0), 0.5),
         ];
-        let b = check(&close, &grid(), false, &walls, &sides).unwrap_err();
+        let b = check(&close, &grid(), false, &walls, &sides, &[]).unwrap_err();
         assert_eq!((b.sphere, b.other), (0, Body::new(ShapeKind::Sphere, 1)));
         assert!((b.depth / b.tolerance - 4.0).abs() < 1e-6, "{b:?}");
         // Outside the container.
         let out = [apart[0], body(DVec3::new(9.0, 5.0, 5.0), 0.5)];
-        let b = check(&out, &grid(), false, &walls, &sides).unwrap_err();
+        let b = check(&out, &grid(), false, &walls, &sides, &[]).unwrap_err();
         assert_eq!((b.sphere, b.other), (1, Body::new(ShapeKind::Container, 0)));
         assert!((b.depth - 0.5).abs() < 1e-12);
         // Across the plane, well clear of it: a breach by the whole way back.
         let across = [apart[0], body(DVec3::new(6.0, 5.0, 0.5), 0.5)];
-        let b = check(&across, &grid(), false, &walls, &sides).unwrap_err();
+        let b = check(&across, &grid(), false, &walls, &sides, &[]).unwrap_err();
         assert_eq!((b.sphere, b.other), (1, Body::new(ShapeKind::Plane, 0)));
         assert!((b.depth - 2.0).abs() < 1e-12, "{b:?}");
+        // In a periodic box the same sphere is on its side after an odd number of crossings of
+        // the faces across the plane's normal (z), where it meets the plane's image; after none,
+        // or crossings of another axis only, it went through: a breach.
+        let plane = Statics::new().with(Plane::new([0.0, 0.0, 2.0], [0.0, 0.0, 1.0]).unwrap(), 0);
+        let sides = super::sides(&apart, &plane);
+        for (crossed, through) in [
+            ([0, 0, 0], true),
+            ([0, 0, -1], false),
+            ([0, 0, 2], true),
+            ([1, -1, 0], true),
+            ([1, 0, 3], false),
+        ] {
+            let result = check(&across, &grid(), true, &plane, &sides, &[[0; 3], crossed]);
+            assert_eq!(result.is_err(), through, "{crossed:?}: {result:?}");
+        }
     }
 
     /// Pairs across a periodic box's faces and in far cells of an open grid are found.
@@ -247,21 +267,21 @@ mod tests {
             body(DVec3::new(0.2, 5.0, 5.0), 0.5),
             body(DVec3::new(9.3, 5.0, 5.0), 0.5),
         ];
-        let b = check(&wrap, &grid(), true, &none, &[]).unwrap_err();
+        let b = check(&wrap, &grid(), true, &none, &[], &[]).unwrap_err();
         assert_eq!(b.other, Body::new(ShapeKind::Sphere, 1));
-        assert!(check(&wrap, &grid(), false, &none, &[]).is_ok());
+        assert!(check(&wrap, &grid(), false, &none, &[], &[]).is_ok());
         // Both far outside the grid, clamped into the same edge cell.
         let far = [
             body(DVec3::new(100.0, 5.0, 5.0), 0.5),
             body(DVec3::new(100.5, 5.0, 5.0), 0.5),
         ];
-        assert!(check(&far, &grid(), false, &none, &[]).is_err());
+        assert!(check(&far, &grid(), false, &none, &[], &[]).is_err());
         // A box of three cells a side: every pair is checked once.
         let small = Cells::new(DVec3::ZERO, DVec3::splat(3.0), 1.0, 27);
         let pair = [
             body(DVec3::new(0.5, 0.5, 0.5), 0.5),
             body(DVec3::new(2.6, 0.5, 0.5), 0.5),
         ];
-        assert!(check(&pair, &small, true, &none, &[]).is_err());
+        assert!(check(&pair, &small, true, &none, &[], &[]).is_err());
     }
 }

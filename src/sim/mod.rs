@@ -265,7 +265,8 @@ impl Simulation {
         let (cells, walls, periodic, report_only) = self.engine.layout();
         let sides = if report_only { &[][..] } else { &self.sides };
         let time = self.engine.now();
-        match invariant::check(&bodies, cells, periodic, walls, sides) {
+        let images = if periodic { self.images() } else { Vec::new() };
+        match invariant::check(&bodies, cells, periodic, walls, sides, &images) {
             Ok((pairs, walls)) => Ok(InvariantReport { time, pairs, walls }),
             Err(_) if report_only => Ok(InvariantReport {
                 time,

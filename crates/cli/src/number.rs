@@ -12,9 +12,9 @@ pub fn counted(n: u64, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
-/// A time window's end as the kernels take it: the largest `f32` not above the number given
-/// (`3.9999999` is `3.9999998`, not the nearer `4`), so that no contact after the time asked
-/// for is reported; `inf` and numbers past `f32::MAX` as written (`f32::MAX` for a finite one).
+/// A time window's end as the kernels take it: the largest `f32` not above the number given,
+/// as `f64` reads it (`3.9999999` is `3.9999998`, not the nearer `4`), so that no contact after
+/// the time asked for is reported; `inf` and numbers past `f32::MAX` as written (`f32::MAX` for a finite one).
 /// What is refused (below zero, NaN) is the query options' to say.
 pub fn window_end(text: &str) -> Result<f32, String> {
     let t: f64 = text

@@ -298,13 +298,14 @@ fn scene_of_run(
         .pointer("/run/fingerprint")
         .and_then(|v| v.as_str())
         .map(str::to_owned);
-    let run_dir = summary.parent().unwrap_or(Path::new(""));
+    let run_dir = match summary.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
     let mut candidates = vec![named.clone()];
     if named.is_relative() {
         candidates.push(run_dir.join(&named));
-        if let Some(above) = run_dir.parent() {
-            candidates.push(above.join(&named));
-        }
+        candidates.push(above(&run_dir).join(&named));
     }
     candidates.dedup();
     let matches = |path: &PathBuf| -> Option<spheresweep::sim::World> {
@@ -339,6 +340,20 @@ fn scene_of_run(
             "no file of that name is found here or beside the run"
         }
     ))
+}
+
+/// The directory above `dir`, as short as it can be said: `..` above `.`, `../..` above `..`.
+fn above(dir: &Path) -> PathBuf {
+    if dir == Path::new(".") {
+        PathBuf::from("..")
+    } else if dir.ends_with("..") {
+        dir.join("..")
+    } else {
+        match dir.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        }
+    }
 }
 
 /// Legend entries of a world's static shapes: how many of each kind, and their materials.

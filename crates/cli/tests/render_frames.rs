@@ -330,8 +330,8 @@ fn a_runs_scene_is_drawn_only_if_it_is_the_one_it_ran() {
         "{note}"
     );
     assert!(err.is_empty(), "{err}");
-    // Another file of the same name here is not the scene the run ran: the one beside the
-    // run is drawn.
+    // Another file of the same name here is not the scene the run ran: the one in the run's
+    // working directory, above the run's own, is drawn.
     let other = BOXED.replace("radius = 1.5", "radius = 3.5");
     std::fs::write(sub.join("boxed.toml"), &other).unwrap();
     let (_, note, err) = render("beside");
@@ -340,6 +340,28 @@ fn a_runs_scene_is_drawn_only_if_it_is_the_one_it_ran() {
         "{note}"
     );
     assert!(err.is_empty(), "{err}");
+    // From inside the run's directory, named as `trajectory.xyz`: found above it.
+    std::fs::remove_file(sub.join("boxed.toml")).unwrap();
+    let inside = bin()
+        .current_dir(dir.join("run"))
+        .args([
+            "render",
+            "trajectory.xyz",
+            "--view",
+            "top",
+            "--format",
+            "svg",
+        ])
+        .args(["--out", "inside"])
+        .output()
+        .unwrap();
+    ok(&inside);
+    let note = String::from_utf8_lossy(&inside.stdout);
+    assert!(
+        note.contains("shapes and materials of ../boxed.toml"),
+        "{note}"
+    );
+    std::fs::write(sub.join("boxed.toml"), &other).unwrap();
     // The scene itself changed after the run: not drawn, and said.
     std::fs::remove_file(sub.join("boxed.toml")).unwrap();
     std::fs::write(dir.join("boxed.toml"), &other).unwrap();

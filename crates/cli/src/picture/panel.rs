@@ -59,7 +59,8 @@ impl Map {
             (u.1 - u.0).max(f64::MIN_POSITIVE),
             (v.1 - v.0).max(f64::MIN_POSITIVE),
         );
-        let scale = (rect.w / du).min(rect.h / dv);
+        // Finite however small the frame (a point at 10⁻³⁰⁰ is framed by 10⁻³⁰⁶).
+        let scale = (rect.w / du).min(rect.h / dv).min(f64::MAX);
         let origin = (
             rect.x + (rect.w - scale * du) / 2.0,
             rect.y + rect.h - (rect.h - scale * dv) / 2.0,
