@@ -203,14 +203,7 @@ impl Simulation {
                 problem: crate::error::Problem::OutOfRange,
             });
         }
-        let fastest = velocities
-            .iter()
-            .fold(0.0, |m, v| v.abs().max_element().max(m));
-        if fastest > 0.0 && fastest < MIN_MAGNITUDE {
-            return Err(SimError::Range {
-                what: OutOfRange::FastestSphere,
-            });
-        }
+        model::fastest_in_range(velocities.iter().copied())?;
         self.engine.set_velocities(velocities)
     }
 

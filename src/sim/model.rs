@@ -418,6 +418,19 @@ pub(crate) fn in_range(x: f64) -> bool {
     (MIN_MAGNITUDE..=MAX_MAGNITUDE).contains(&x)
 }
 
+/// Refuses velocities whose fastest component is below [`MIN_MAGNITUDE`] but not zero: slower
+/// spheres are fine (their speeds only round away against the others'), but a scene moving
+/// only that slowly would square its speeds to nothing.
+pub(crate) fn fastest_in_range(velocities: impl Iterator<Item = DVec3>) -> Result<(), SimError> {
+    let fastest = velocities.fold(0.0, |m: f64, v| m.max(v.abs().max_element()));
+    if fastest > 0.0 && fastest < MIN_MAGNITUDE {
+        return Err(SimError::Range {
+            what: OutOfRange::FastestSphere,
+        });
+    }
+    Ok(())
+}
+
 /// Whether every component is at most `MAX_MAGNITUDE` in magnitude.
 pub(crate) fn bounded3(v: DVec3) -> bool {
     v.abs().max_element() <= MAX_MAGNITUDE
@@ -555,16 +568,7 @@ impl World {
         if !ok {
             return Err(SimError::Range { what });
         }
-        // Slower spheres are fine (their speeds only round away against the others'), but a
-        // scene moving only that slowly would square its speeds to nothing.
-        let fastest = self.spheres.iter().map(|s| s.velocity.abs().max_element());
-        let fastest = fastest.fold(0.0, f64::max);
-        if fastest > 0.0 && fastest < MIN_MAGNITUDE {
-            return Err(SimError::Range {
-                what: OutOfRange::FastestSphere,
-            });
-        }
-        Ok(())
+        fastest_in_range(self.spheres.iter().map(|s| s.velocity))
     }
 }
 
