@@ -790,16 +790,13 @@ impl<
     pub fn current(&self) -> Vec<Trajectory> {
         let mut out = vec![Trajectory::default(); self.m.bodies.len()];
         for (b, &id) in self.m.bodies.iter().zip(&self.id_of) {
-            let (mut r, v) = if GRAVITY {
+            let (r, v) = if GRAVITY {
                 b.at(self.now, self.m.g)
             } else {
                 (b.on_line(self.now), b.v)
             };
-            if PERIODIC {
-                r = self.cells.wrap(r);
-            }
             out[id as usize] = Trajectory {
-                r,
+                r: wrapped::<PERIODIC>(&self.cells, r),
                 t: self.now,
                 v,
                 ..*b
@@ -908,7 +905,7 @@ impl<
     }
 }
 
-/// A point in the periodic box, as the trajectory writes centres (elsewhere as it is): an
+/// A point in the periodic box (elsewhere as it is): centres are read out wrapped, and an
 /// event's contact point lies in the box with the spheres it is drawn with.
 #[inline]
 fn wrapped<const PERIODIC: bool>(cells: &Cells, p: DVec3) -> DVec3 {

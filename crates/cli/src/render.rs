@@ -316,7 +316,7 @@ fn scene_of_run(
         crate::memory::check_scene(path, &scene, size_of::<SphereState>()).ok()?;
         let world = scene.build().ok()?.0;
         let same = match &fingerprint {
-            Some(f) => *f == format!("{:016x}", crate::run::hash::world(&world)),
+            Some(f) => *f == crate::run::hash::text(crate::run::hash::world(&world)),
             None => true,
         };
         same.then_some(world)

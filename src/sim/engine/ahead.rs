@@ -152,10 +152,8 @@ impl<
     /// rebuild of its list then reads.
     #[inline(always)]
     fn fetch_cells_at(&self, n: usize, t: f64) {
-        let (mut r, _) = self.m.bodies[n].at(t, self.m.g);
-        if PERIODIC {
-            r = self.cells.wrap(r);
-        }
+        let (r, _) = self.m.bodies[n].at(t, self.m.g);
+        let r = super::wrapped::<PERIODIC>(&self.cells, r);
         let [x, y, z] = self.stencil.cell_parts(self.cells.coords_of(r));
         let records = self.cells.records();
         for pz in z {

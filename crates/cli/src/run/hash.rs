@@ -43,6 +43,11 @@ pub fn world(w: &World) -> u64 {
     h.finalize()
 }
 
+/// A fingerprint as it is written in `summary.json` and named in messages: 16 hexadecimal digits.
+pub fn text(fingerprint: u64) -> String {
+    format!("{fingerprint:016x}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -185,11 +185,12 @@ fn same_run(
     if c.fingerprint != fingerprint {
         return Err(format!(
             "cannot resume from {}: it was written for another scene ({} builds a world whose \
-             fingerprint is {fingerprint:016x}, the checkpoint's is {:016x}: spheres, seed, \
-             shapes, boundary, materials or effects differ)",
+             fingerprint is {}, the checkpoint's is {}: spheres, seed, shapes, boundary, \
+             materials or effects differ)",
             path.display(),
             args.scene.display(),
-            c.fingerprint
+            hash::text(fingerprint),
+            hash::text(c.fingerprint)
         ));
     }
     Ok(())

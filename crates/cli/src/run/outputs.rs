@@ -49,7 +49,7 @@ impl Manifest {
         }
         outputs.push(SUMMARY.to_string());
         Self {
-            fingerprint: format!("{fingerprint:016x}"),
+            fingerprint: super::hash::text(fingerprint),
             t_end: s.t_end,
             snapshot_every: s.snapshot_every,
             record_events: s.record_events,
