@@ -128,6 +128,26 @@ pub(crate) fn floats<'py, T: Element>(
     name: &str,
     expect: Expect,
 ) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
+    converted(obj, name, expect, false)
+}
+
+/// As [`floats`] for a column of sizes (radii, masses) in `float32`: a positive value so small
+/// that `float32` rounds it to zero (below about 1.4·10⁻⁴⁵) is refused too, since a radius of
+/// zero is a point and a mass of zero is refused as "not greater than zero", neither of which
+/// the caller gave.
+pub(crate) fn sizes_f32<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
+    converted(obj, name, Expect::Column, true)
+}
+
+fn converted<'py, T: Element>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    expect: Expect,
+    sizes: bool,
+) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
     let py = obj.py();
     let array = as_ndarray(obj, name, expect, T::get_dtype(py).into_any())?;
     let dtype = array.dtype();
@@ -145,7 +165,7 @@ pub(crate) fn floats<'py, T: Element>(
         // The copy is refused before NumPy allocates it, as every allocation is.
         converting::<T>(&array, name, &target.str()?.to_string())?;
         if target.kind() == b'f' && target.itemsize() == 4 {
-            beyond_float32(&array, name)?;
+            outside_float32(&array, name, sizes)?;
         }
         array.call_method1("astype", (target,))?
     };
@@ -154,23 +174,30 @@ pub(crate) fn floats<'py, T: Element>(
 
 /// Refuses a float64 entry that is finite but beyond `float32`'s range (about ±3.4·10³⁸),
 /// which the conversion would make infinite, named by its position: the queries compute in
-/// `float32`, and "NaN or infinite" would name a value the caller never gave. Other dtypes
-/// convert within range (integers) or are left to the conversion (NumPy's `longdouble`).
-fn beyond_float32(array: &Bound<'_, PyUntypedArray>, name: &str) -> PyResult<()> {
+/// `float32`, and "NaN or infinite" would name a value the caller never gave. With `sizes`,
+/// also a nonzero entry the conversion would make zero. Other dtypes convert within range
+/// (integers) or are left to the conversion (NumPy's `longdouble`).
+fn outside_float32(array: &Bound<'_, PyUntypedArray>, name: &str, sizes: bool) -> PyResult<()> {
     let Ok(wide) = array.extract::<PyReadonlyArrayDyn<'_, f64>>() else {
         return Ok(());
     };
     let view = wide.as_array();
+    let lost = |x: f64| sizes && x != 0.0 && x as f32 == 0.0;
     let far = view
         .indexed_iter()
-        .find(|&(_, &x)| x.is_finite() && (x as f32).is_infinite());
+        .find(|&(_, &x)| x.is_finite() && ((x as f32).is_infinite() || lost(x)));
     match far {
         None => Ok(()),
         Some((at, &x)) => {
             let at: Vec<String> = at.slice().iter().map(usize::to_string).collect();
+            let (side, range) = if lost(x) {
+                ("below", "smallest about 1.4e-45")
+            } else {
+                ("beyond", "about ±3.4e38")
+            };
             Err(PyValueError::new_err(format!(
-                "{name}[{}]: {x:e} is beyond float32's range (about ±3.4e38), which the \
-                 queries compute in: choose units that bring it within",
+                "{name}[{}]: {x:e} is {side} float32's range ({range}), which the queries \
+                 compute in: choose units that bring it within",
                 at.join(", ")
             )))
         }

@@ -3,8 +3,9 @@
 //! a pandas DataFrame (`to_pandas`); the simulation's events use the same dict form. Both
 //! classes pickle as their arrays.
 
-use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::PyImportError;
+use numpy::{PyArray1, PyArray2, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::PyTypeCheck;
+use pyo3::exceptions::{PyImportError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 use spheresweep::ShapeKind;
@@ -40,6 +41,32 @@ pub(crate) fn put_column(
     } else {
         d.set_item(name, array)
     }
+}
+
+/// A column given to a result's constructor: an array of exactly its dtype and dimensions
+/// (kept as given, not converted: the results pickle as these arrays), else a `TypeError`
+/// naming the column and what was given.
+fn column<A: PyTypeCheck>(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<Py<A>> {
+    obj.cast::<A>().map(|a| a.clone().unbind()).map_err(|_| {
+        let got = match obj.cast::<PyUntypedArray>() {
+            Ok(a) => format!("a {}-D {} array", a.ndim(), a.dtype()),
+            Err(_) => crate::args::type_name(obj),
+        };
+        PyTypeError::new_err(format!("{name}: expected {what}, got {got}"))
+    })
+}
+
+/// The optional `(K, 3)` float32 columns `point` and `normal`.
+fn geometry_columns(
+    point: Option<&Bound<'_, PyAny>>,
+    normal: Option<&Bound<'_, PyAny>>,
+) -> PyResult<[Option<Py<PyArray2<f32>>>; 2]> {
+    let read = |a: Option<&Bound<'_, PyAny>>, name| {
+        crate::args::optional(a)
+            .map(|a| column(a, name, "a 2-D float32 array"))
+            .transpose()
+    };
+    Ok([read(point, "point")?, read(normal, "normal")?])
 }
 
 /// Refuses result columns that do not line up: each 1-D column as long as `time` (`n` rows),
@@ -113,12 +140,16 @@ impl FirstContacts {
     #[pyo3(signature = (time, kind, index, point = None, normal = None))]
     fn new(
         py: Python<'_>,
-        time: Py<PyArray1<f32>>,
-        kind: Py<PyArray1<u8>>,
-        index: Py<PyArray1<i64>>,
-        point: Option<Py<PyArray2<f32>>>,
-        normal: Option<Py<PyArray2<f32>>>,
+        time: &Bound<'_, PyAny>,
+        kind: &Bound<'_, PyAny>,
+        index: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+        normal: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let time = column::<PyArray1<f32>>(time, "time", "a 1-D float32 array")?;
+        let kind = column::<PyArray1<u8>>(kind, "kind", "a 1-D uint8 array")?;
+        let index = column::<PyArray1<i64>>(index, "index", "a 1-D int64 array")?;
+        let [point, normal] = geometry_columns(point, normal)?;
         let rows = [
             ("kind", kind.bind(py).len()),
             ("index", index.bind(py).len()),
@@ -221,13 +252,18 @@ impl Contacts {
     #[pyo3(signature = (time, sphere, kind, index, point = None, normal = None))]
     fn new(
         py: Python<'_>,
-        time: Py<PyArray1<f32>>,
-        sphere: Py<PyArray1<u32>>,
-        kind: Py<PyArray1<u8>>,
-        index: Py<PyArray1<i64>>,
-        point: Option<Py<PyArray2<f32>>>,
-        normal: Option<Py<PyArray2<f32>>>,
+        time: &Bound<'_, PyAny>,
+        sphere: &Bound<'_, PyAny>,
+        kind: &Bound<'_, PyAny>,
+        index: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+        normal: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let time = column::<PyArray1<f32>>(time, "time", "a 1-D float32 array")?;
+        let sphere = column::<PyArray1<u32>>(sphere, "sphere", "a 1-D uint32 array")?;
+        let kind = column::<PyArray1<u8>>(kind, "kind", "a 1-D uint8 array")?;
+        let index = column::<PyArray1<i64>>(index, "index", "a 1-D int64 array")?;
+        let [point, normal] = geometry_columns(point, normal)?;
         let rows = [
             ("sphere", sphere.bind(py).len()),
             ("kind", kind.bind(py).len()),

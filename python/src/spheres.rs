@@ -9,7 +9,7 @@ use pyo3::types::PyType;
 use spheresweep::store::{Columns, Field, StoreError};
 use spheresweep::{Sphere, SphereStore};
 
-use crate::arrays::{Expect, floats};
+use crate::arrays::{Expect, floats, sizes_f32};
 use crate::batch::value_error;
 use crate::memory;
 
@@ -115,9 +115,9 @@ impl Spheres {
     ) -> PyResult<Self> {
         let c = floats::<f32>(centres, "centres", Expect::Rows3)?;
         let v = floats::<f32>(velocities, "velocities", Expect::Rows3)?;
-        let r = floats::<f32>(radii, "radii", Expect::Column)?;
+        let r = sizes_f32(radii, "radii")?;
         let m = crate::args::optional(masses)
-            .map(|m| floats::<f32>(m, "masses", Expect::Column))
+            .map(|m| sizes_f32(m, "masses"))
             .transpose()?;
         let n = c.shape()[0];
         for (name, len) in [("velocities", v.shape()[0]), ("radii", r.shape()[0])]
@@ -170,7 +170,10 @@ impl Spheres {
         let arrays = named
             .into_iter()
             .chain(crate::args::optional(m).map(|m| (m, "m")))
-            .map(|(a, name)| floats::<f32>(a, name, Expect::Column))
+            .map(|(a, name)| match name {
+                "r" | "m" => sizes_f32(a, name),
+                _ => floats::<f32>(a, name, Expect::Column),
+            })
             .collect::<PyResult<Vec<_>>>()?;
         let n = arrays[0].len();
         // The store, and a copy of each strided column, must fit.

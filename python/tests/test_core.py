@@ -272,12 +272,26 @@ ONE = dict(centres=[[0, 0, 0]], velocities=[[0, 0, 0]], radii=[1.0])
         (dict(ONE, radii=[2.0, 1e200][1:]), ValueError, r"radii\[0\]: 1e200 is beyond float32's range"),
         (dict(ONE, velocities=np.array([[0, -4e38, 0]])), ValueError, r"velocities\[0, 1\]: -4e38 is beyond"),
         (dict(ONE, centres=[[0, 0, np.inf]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
+        # A size float32 rounds to zero would read as a point or as "not greater than zero".
+        (dict(ONE, radii=[1e-300]), ValueError, r"radii\[0\]: 1e-300 is below float32's range"),
+        (dict(ONE, masses=[2e-46]), ValueError, r"masses\[0\]: 2e-46 is below float32's range"),
     ],
 )
 @pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
 def test_bad_spheres(kwargs, err, pattern):
     with pytest.raises(err, match=pattern):
         ss.Spheres(**kwargs)
+
+
+def test_a_tiny_size_is_named_and_a_tiny_coordinate_rounds():
+    # A subnormal float32 radius is a size still; a coordinate that rounds to 0 moves by 1e-300.
+    s = ss.Spheres(centres=[[0, 0, 1e-300]], velocities=[[1e-300, 0, 0]], radii=[1e-44])
+    assert s.radii[0] > 0 and s.centres[0, 2] == 0
+    x = np.ones(2)
+    with pytest.raises(ValueError, match=r"m\[1\]: 1e-50 is below float32's range"):
+        ss.Spheres.from_columns(x, x, x, x, x, x, x, np.array([1.0, 1e-50]))
+    with pytest.raises(ValueError, match=r"r\[0\]: 1e-300 is below"):
+        ss.Spheres.from_columns(x, x, x, x, x, x, np.array([1e-300, 1.0]))
 
 
 def test_a_float64_that_rounds_to_the_largest_float32_is_taken():
@@ -564,6 +578,14 @@ def test_result_columns_that_do_not_line_up_are_refused():
         ss.FirstContacts(t, k, i, g)
     with pytest.raises(ValueError, match=r"normal: shape \[2, 3\], expected \[3, 3\]"):
         ss.FirstContacts(t, k, i, g, np.zeros((2, 3), np.float32))
+    # A column of another dtype or kind is named, with what was given (kept as given, so not
+    # converted).
+    with pytest.raises(TypeError, match=r"time: expected a 1-D float32 array, got a 1-D float64 array"):
+        ss.FirstContacts(t.astype(np.float64), k, i)
+    with pytest.raises(TypeError, match=r"sphere: expected a 1-D uint32 array, got list"):
+        ss.Contacts(t, [0, 0, 0], k, i)
+    with pytest.raises(TypeError, match=r"point: expected a 2-D float32 array, got a 1-D float32 array"):
+        ss.FirstContacts(t, k, i, t, g)
     # What a query returns still pickles and rebuilds.
     scene = ss.Scene(ss.Spheres([[0, 0, 0], [3, 0, 0]], [[1, 0, 0], [-1, 0, 0]], [1.0, 1.0]))
     for r in (ss.first_contacts(scene, t_max=2, geometry=True), ss.all_contacts(scene, t_max=2)):
