@@ -963,30 +963,39 @@ fn a_sphere_wrapped_across_a_face_still_meets_the_static_shapes() {
 /// time read, not only after its shell event counts the crossing.
 #[test]
 fn the_unwrapped_centre_follows_the_line_between_shell_events() {
-    let size = DVec3::splat(4.0);
-    let w = World {
-        spheres: vec![SphereState {
-            centre: DVec3::splat(2.0),
-            velocity: DVec3::new(1.0, 0.25, -0.5),
-            radius: 0.5,
-            mass: 1.0,
-            material: 0,
-        }],
-        boundary: Boundary::Periodic { size },
-        ..World::default()
-    };
-    let mut sim = Simulation::new(w).unwrap();
-    for k in 1..200 {
-        let t = 0.05 * f64::from(k);
-        sim.advance_to(t).unwrap();
-        let (centre, images) = (sim.spheres()[0].centre, sim.images()[0]);
-        let unwrapped =
-            centre + DVec3::new(images[0] as f64, images[1] as f64, images[2] as f64) * size;
-        let line = DVec3::splat(2.0) + DVec3::new(1.0, 0.25, -0.5) * t;
-        assert!(
-            (unwrapped - line).abs().max_element() < 1e-12,
-            "t = {t}: {unwrapped} {line}"
-        );
+    let size = DVec3::splat(8.0);
+    let velocity = DVec3::new(1.0, 0.0, -0.5);
+    // A plane across y, which the sphere never reaches: the invariant reads its side.
+    let plane = Plane::new([0.0, 4.0, 0.0], [0.0, 1.0, 0.0]).unwrap();
+    // Given in the box, and given 3, 1 and −2 box lengths away (an odd count across the
+    // plane's normal: the invariant's side must count from where it starts in the box).
+    for start in [DVec3::new(2.0, 6.0, 2.0), DVec3::new(26.0, 14.0, -14.0)] {
+        let w = World {
+            spheres: vec![SphereState {
+                centre: start,
+                velocity,
+                radius: 0.5,
+                mass: 1.0,
+                material: 0,
+            }],
+            statics: Statics::new().with(plane, 0),
+            boundary: Boundary::Periodic { size },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(w).unwrap();
+        for k in 0..200 {
+            let t = 0.05 * f64::from(k);
+            sim.advance_to(t).unwrap();
+            sim.check_invariant().unwrap();
+            let (centre, images) = (sim.spheres()[0].centre, sim.images()[0]);
+            let unwrapped =
+                centre + DVec3::new(images[0] as f64, images[1] as f64, images[2] as f64) * size;
+            let line = start + velocity * t;
+            assert!(
+                (unwrapped - line).abs().max_element() < 1e-12,
+                "start {start}, t = {t}: {unwrapped} {line}"
+            );
+        }
     }
 }
 

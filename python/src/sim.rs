@@ -390,7 +390,10 @@ impl Simulation {
     /// run likewise). `ValueError` if `t` is not finite or before `time`. With `check` (the
     /// default) the state reached is checked against the invariant (`check_invariant`), as
     /// `spheresweep run` checks every snapshot: `InvariantError` naming the sphere, the other
-    /// body and the time if it is broken.
+    /// body and the time if it is broken. A `SimulationError` found on the way (the spheres
+    /// flown apart beyond their reach, a stall) leaves the simulation at the last event it
+    /// processed (`time`), usable: after "beyond what the simulation can reach", advancing
+    /// to the time the message names succeeds.
     #[pyo3(signature = (t, *, progress = None, check = None),
            text_signature = "($self, t, *, progress=None, check=True)")]
     fn advance_to(
@@ -592,7 +595,8 @@ impl Simulation {
     }
 
     /// How many times each sphere has crossed each face of the periodic box, int64 `(N, 3)`
-    /// (`+1` out through the upper face); all zero in open space.
+    /// (`+1` out through the upper face), counted from the centre given (a centre given
+    /// outside the box starts with the faces it was wrapped across); all zero in open space.
     fn images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
         let n = self.world.spheres.len();
         memory::check("images", n.saturating_mul(2 * 24))?;

@@ -5,6 +5,7 @@ events come out as arrays, errors are named, and the GIL is released while it ru
 import math
 import pathlib
 import pickle
+import re
 import threading
 import time
 import warnings
@@ -456,6 +457,13 @@ def test_images_and_unwrapped_positions_follow_a_free_flight():
     assert sim.images().tolist() == [[2, 0, 0], [0, -1, 0]]
     assert np.allclose(sim.unwrapped_positions(), start + 7.0 * v, atol=1e-12)
     assert (sim.positions >= 0).all() and (sim.positions <= 10).all()
+    # Centres given outside the box are wrapped in, and counted from where they were given.
+    away = start + np.array([[-20.0, 30.0, 0.0], [0.0, 10.0, -10.0]])
+    outside = ss.Simulation.from_spheres(away, v, [0.5, 0.5], periodic_box=[10, 10, 10])
+    assert outside.images().tolist() == [[-2, 3, 0], [0, 1, -1]]
+    outside.advance_to(7.0)
+    assert np.allclose(outside.unwrapped_positions(), away + 7.0 * v, atol=1e-12)
+    assert np.allclose(outside.positions, sim.positions, atol=1e-12)
     # In open space the images are zero and nothing is unwrapped.
     free = ss.Simulation.from_spheres(start, v, [0.5, 0.5])
     free.advance_to(7.0)
@@ -479,6 +487,15 @@ def test_spheres_that_fly_apart_finish_at_once_and_say_when():
     # New velocities wake it (turned towards each other, they would meet again).
     sim.set_velocities(-v)
     assert sim.flown_apart is None
+    # Refused on the way (parked during the advance): left at the last event processed,
+    # before its reach, from where the time the message names can be reached.
+    fresh = ss.Simulation.from_spheres(start, v, [0.5, 0.5])
+    with pytest.raises(ValueError, match=r"the run can go on to t = (\S+)") as refused:
+        fresh.advance_to(1e300)
+    reach = float(re.search(r"go on to t = (\S+)", str(refused.value)).group(1))
+    assert 0 < fresh.time < 1e3 and fresh.flown_apart == 0.0
+    fresh.advance_to(reach)
+    assert fresh.time == reach
 
 
 def test_spheres_far_from_the_origin_are_warned_of(tmp_path):

@@ -45,6 +45,7 @@ impl Simulation {
         reserve_memory(n)?;
         let (cells, periodic, delta) = grid(&world)?;
         let m = motion(&world, &cells, periodic);
+        let start_images = start_images(&world, &cells, periodic);
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
         let sides = invariant::sides(&m.bodies, &walls);
@@ -81,6 +82,7 @@ impl Simulation {
             fingerprint,
             sides,
             boundary: world.boundary,
+            start_images,
         })
     }
 }
@@ -225,6 +227,25 @@ fn grid(world: &World) -> Result<(Cells, bool, f64), SimError> {
             (Cells::new(lo, extent, width, 2 * n + 64), false, delta)
         }
     })
+}
+
+/// How many box lengths each periodic sphere's centre as given lies from the box, per axis
+/// (what `motion` wraps away), so that `images()` and unwrapped centres count from the centre
+/// given; empty in open space or if every centre is given in the box.
+fn start_images(world: &World, cells: &Cells, periodic: bool) -> Vec<[i64; 3]> {
+    if !periodic {
+        return Vec::new();
+    }
+    let images: Vec<[i64; 3]> = world
+        .spheres
+        .iter()
+        .map(|s| (s.centre / cells.len).floor().to_array().map(|k| k as i64))
+        .collect();
+    if images.iter().all(|k| *k == [0; 3]) {
+        Vec::new()
+    } else {
+        images
+    }
 }
 
 /// The spheres as the engine moves them, at time 0 (periodic centres wrapped into the box).

@@ -102,6 +102,9 @@ pub struct Simulation {
     sides: Vec<bool>,
     /// Where the spheres live.
     boundary: Boundary,
+    /// The faces each periodic sphere given outside the box was taken across to start in it
+    /// (its centre wrapped in); empty if none was.
+    start_images: Vec<[i64; 3]>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -131,7 +134,8 @@ impl Simulation {
     /// How many times each sphere has crossed each face of a periodic box (`+1` out through
     /// the upper face, `−1` through the lower), in sphere order, up to now: its unwrapped centre
     /// is `centre + images · size`, which follows its path at every time read (for a
-    /// mean-squared displacement). All zero in open space.
+    /// mean-squared displacement), from the centre given: a sphere given outside the box
+    /// starts with the faces its centre was wrapped across. All zero in open space.
     ///
     /// ```
     /// use spheresweep::sim::{Boundary, Simulation, World, generate};
@@ -144,6 +148,15 @@ impl Simulation {
     /// # Ok::<(), spheresweep::sim::SimError>(())
     /// ```
     pub fn images(&self) -> Vec<[i64; 3]> {
+        let mut images = self.crossed();
+        for (k, start) in images.iter_mut().zip(&self.start_images) {
+            *k = std::array::from_fn(|a| k[a] + start[a]);
+        }
+        images
+    }
+
+    /// The faces each sphere has crossed since it started in the box.
+    fn crossed(&self) -> Vec<[i64; 3]> {
         let images = self.engine.images();
         if images.is_empty() {
             vec![[0; 3]; self.masses.len()]
@@ -258,7 +271,8 @@ impl Simulation {
         let (cells, walls, periodic, report_only) = self.engine.layout();
         let sides = if report_only { &[][..] } else { &self.sides };
         let time = self.engine.now();
-        let images = if periodic { self.images() } else { Vec::new() };
+        // The sides were taken where the spheres started in the box.
+        let images = if periodic { self.crossed() } else { Vec::new() };
         match invariant::check(&bodies, cells, periodic, walls, sides, &images) {
             Ok((pairs, walls)) => Ok(InvariantReport { time, pairs, walls }),
             Err(_) if report_only => Ok(InvariantReport {
@@ -277,6 +291,13 @@ impl Simulation {
     }
 
     /// Processes every event up to time `t` (inclusive) and moves the clock to `t`.
+    ///
+    /// # Errors
+    /// [`SimError::Time`] if `t` is not finite or before [`time`](Self::time), nothing done;
+    /// an error found on the way ([`SimError::Flown`] once the spheres have flown apart for
+    /// good and `t` is beyond their reach, [`SimError::Stalled`], [`SimError::Collapse`])
+    /// leaves the simulation at the last event it processed, consistent and usable: after
+    /// `Flown`, advancing to the time it names succeeds.
     ///
     /// ```
     /// # use glam::DVec3;
