@@ -147,11 +147,7 @@ fn build_world(args: &Args) -> Result<(SceneFile, World, RunSettings), Box<dyn E
     let scene = SceneFile::from_path(&args.scene)?;
     // Too large for memory: refused before a sphere is generated. The world (one
     // `SphereState` a sphere) is held while the simulation is built from it.
-    // More spheres than a scene file may give: building it names the block and the limit.
-    if let Some(n) = scene
-        .sphere_count()
-        .filter(|&n| n <= spheresweep::io::scene_file::MAX_SPHERES)
-    {
+    if let Some(n) = crate::memory::scene_count(&scene) {
         let bytes = Simulation::estimated_bytes(n)
             .saturating_add(n.saturating_mul(std::mem::size_of::<SphereState>()));
         crate::memory::check(
