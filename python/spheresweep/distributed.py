@@ -687,6 +687,8 @@ def _scatter_slabs(client, centres, velocities, radii, masses, plan):
 
 
 def _scene_inputs(centres, velocities, radii, masses):
+    """The spheres of a scene query, validated and built once, and their float32 columns
+    ``(centres, velocities, radii, masses or None)`` for the slabs."""
     c = np.asarray(centres)
     v = np.asarray(velocities)
     r = np.asarray(radii)
@@ -699,27 +701,22 @@ def _scene_inputs(centres, velocities, radii, masses):
         raise ValueError(
             f"velocities and radii: {len(v)} and {len(r)} rows, but centres has {len(c)}"
         )
-    # Validated as given, before the rounding below can turn a finite value past float32's
-    # range into an infinity (and the message into "NaN or infinite"): the binding names it.
-    _native().Spheres(c, v, r, masses)
-    # Rounded to float32 once, here: the workers and a single-process query see the same bits.
-    conv = [
-        np.ascontiguousarray(a, dtype=np.float32) if a.dtype.kind == "f" else a for a in (c, v, r)
-    ]
-    m = None if masses is None else np.asarray(masses)
-    if m is not None and m.dtype.kind == "f":
-        m = np.ascontiguousarray(m, dtype=np.float32)
-    return conv[0], conv[1], conv[2], m
+    # Validated as given (a finite value past float32's range is named as such, not as "NaN or
+    # infinite" after a rounding) and rounded to float32 once, by the binding, here: the
+    # workers and a single-process query see the same bits.
+    spheres = _native().Spheres(c, v, r, masses)
+    m = None if masses is None else spheres.masses
+    return spheres, (spheres.centres, spheres.velocities, spheres.radii, m)
 
 
 def _scene_query(task, centres, velocities, radii, masses, planes, cylinders, containers,
                  t_max, accuracy, geometry, partitions, axis, halo, client):
     client = _client_or_current(client)
-    c, v, r, m = _scene_inputs(centres, velocities, radii, masses)
+    spheres, (c, v, r, m) = _scene_inputs(centres, velocities, radii, masses)
     # Validated on the client (the spheres as given in `_scene_inputs`, the shapes here), so a
     # bad sphere is named by its global index.
-    ss = _native()
-    ss.Scene(ss.Spheres(c, v, r, m), planes, cylinders, containers)
+    _native().Scene(spheres, planes, cylinders, containers)
+    del spheres
     shapes = (
         _checked_shapes(planes, "planes")
         + _checked_shapes(cylinders, "cylinders")
