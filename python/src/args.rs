@@ -33,7 +33,7 @@ pub(crate) fn show(x: f64) -> String {
 }
 
 /// Whether `obj` is a boolean (Python's or NumPy's), which no numeric argument takes.
-fn is_bool(obj: &Bound<'_, PyAny>) -> bool {
+pub(crate) fn is_bool(obj: &Bound<'_, PyAny>) -> bool {
     obj.is_instance_of::<PyBool>() || type_name(obj) == "bool"
 }
 

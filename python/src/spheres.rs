@@ -2,8 +2,10 @@
 //! their columns back out as new arrays; length, selection, equality and pickling.
 
 use numpy::ndarray::{Array2, ArrayView1, ArrayView2, Ix1, Ix2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 use spheresweep::store::{Columns, Field, StoreError};
@@ -211,7 +213,38 @@ impl Spheres {
     /// The spheres `key` selects (an int, a slice, an integer array or a boolean mask, as
     /// NumPy indexes a 1-D array), as a new `Spheres`; an int gives a `Spheres` of one.
     fn __getitem__(&self, key: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let n = self.store.len() as i128;
+        let out_of_range =
+            |i: i128| PyIndexError::new_err(format!("index {i} is out of range for {n} spheres"));
+        // A Python or NumPy int, read whole (NumPy's own reading overflows past 2⁶³).
+        if key.cast::<PyUntypedArray>().is_err()
+            && !crate::args::is_bool(key)
+            && key.hasattr("__index__")?
+        {
+            let i = crate::args::integer(key, "index")?;
+            let k = if i < 0 { i + n } else { i };
+            if !(0..n).contains(&k) {
+                return Err(out_of_range(i));
+            }
+            return self.select(&[k as i64]);
+        }
         let numpy = key.py().import("numpy")?;
+        // Unsigned indices are checked before NumPy casts them to signed ones, which reads one
+        // past 2⁶³ as negative (and so in range, from the end).
+        let array = numpy.call_method1("asarray", (key,))?;
+        if array
+            .getattr("dtype")?
+            .getattr("kind")?
+            .extract::<String>()?
+            == "u"
+            && array.getattr("size")?.extract::<usize>()? > 0
+        {
+            let largest = array.call_method0("max")?.call_method0("__int__")?;
+            let largest = largest.extract::<i128>()?;
+            if largest >= n {
+                return Err(out_of_range(largest));
+            }
+        }
         let all = numpy.call_method1("arange", (self.store.len() as i64,))?;
         let picked = all.get_item(key)?;
         let picked = numpy.call_method1("atleast_1d", (picked,))?;

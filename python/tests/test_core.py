@@ -283,6 +283,22 @@ def test_bad_spheres(kwargs, err, pattern):
         ss.Spheres(**kwargs)
 
 
+def test_spheres_are_selected_as_numpy_indexes_and_a_far_index_is_named():
+    x = np.arange(5, dtype=np.float32)
+    s = ss.Spheres.from_columns(x, 0 * x, 0 * x, 0 * x, 0 * x, 0 * x, 1 + x)
+    pick = lambda key: s[key].radii.tolist()  # noqa: E731
+    assert pick(1) == [2] and pick(-1) == [5] and pick(np.uint64(4)) == [5]
+    assert pick(slice(1, 3)) == [2, 3] and pick(x > 2) == [4, 5]
+    assert pick([4, 0]) == [5, 1] and pick(np.array([3], np.uint64)) == [4]
+    # NumPy reads an unsigned index past 2**63 as negative, one in range from the end.
+    with pytest.raises(IndexError, match=r"index 9223372036854775813 is out of range for 5 spheres"):
+        s[np.array([2**63 + 5], np.uint64)]
+    with pytest.raises(IndexError, match=r"index 9223372036854775813 is out of range for 5"):
+        s[np.uint64(2**63 + 5)]
+    with pytest.raises(IndexError, match=r"index -6 is out of range for 5 spheres"):
+        s[-6]
+
+
 def test_a_tiny_size_is_named_and_a_tiny_coordinate_rounds():
     # A subnormal float32 radius is a size still; a coordinate that rounds to 0 moves by 1e-300.
     s = ss.Spheres(centres=[[0, 0, 1e-300]], velocities=[[1e-300, 0, 0]], radii=[1e-44])
