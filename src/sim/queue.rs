@@ -92,8 +92,8 @@ pub(crate) struct Calendar {
     version: Vec<u32>,
     heap: BinaryHeap<Reverse<Entry>>,
     far: Vec<Entry>,
-    /// Spheres with a pending event, and those of them linked into a bucket.
-    len: usize,
+    /// Spheres linked into a bucket. Pending events are not counted: every one is in a
+    /// bucket, the heap or the overflow list, and `pop` ends when all three are empty.
     linked: usize,
 }
 
@@ -117,7 +117,6 @@ impl Calendar {
             version: super::pages::filled(0, spheres),
             heap: BinaryHeap::new(),
             far: Vec::new(),
-            len: 0,
             linked: 0,
         }
     }
@@ -125,7 +124,7 @@ impl Calendar {
     /// Spheres with a pending event.
     #[cfg(test)]
     pub fn len(&self) -> usize {
-        self.len
+        self.slots.iter().filter(|s| s.t.is_finite()).count()
     }
 
     #[inline]
@@ -161,12 +160,7 @@ impl Calendar {
         self.unlink(i);
         let v = &mut self.version[i as usize];
         *v = v.wrapping_add(1);
-        let was = std::mem::replace(&mut self.slots[i as usize].t, t);
-        match (was.is_finite(), t.is_finite()) {
-            (false, true) => self.len += 1,
-            (true, false) => self.len -= 1,
-            _ => {}
-        }
+        self.slots[i as usize].t = t;
         if !t.is_finite() {
             return;
         }
@@ -189,13 +183,11 @@ impl Calendar {
                     continue;
                 }
                 self.slots[e.sphere() as usize].t = f64::INFINITY;
-                self.len -= 1;
                 return Some((e.t(), e.sphere()));
             }
-            if self.len == 0 {
+            if !self.advance() {
                 return None;
             }
-            self.advance();
         }
     }
 
@@ -269,17 +261,15 @@ impl Calendar {
 
     /// Moves to the next bucket, with the heap empty: its list goes into the heap. Overflow
     /// events move into the ring at each new year; when no bucket holds an event, the
-    /// calendar jumps to the earliest overflow event.
-    fn advance(&mut self) {
+    /// calendar jumps to the earliest overflow event. `false` when no event is pending.
+    fn advance(&mut self) -> bool {
         if self.linked == 0 {
             self.far
                 .retain(|e| e.version() == self.version[e.sphere() as usize]);
             if self.far.is_empty() {
                 // No event is held anywhere (the heap is empty too): none is pending, and
                 // `pop` ends instead of turning the ring for ever.
-                debug_assert_eq!(self.len, 0, "the calendar counts events it does not hold");
-                self.len = 0;
-                return;
+                return false;
             }
             let first = self.far.iter().map(|e| self.bucket_of(e.t())).min();
             self.current = first.unwrap_or(self.current).saturating_sub(1);
@@ -294,11 +284,13 @@ impl Calendar {
         while i != NIL {
             let s = &mut self.slots[i as usize];
             s.prev = UNLINKED;
-            let next = s.next;
+            let (t, next) = (s.t, s.next);
             self.linked -= 1;
-            self.heap.push(Reverse(self.entry(i)));
+            self.heap
+                .push(Reverse(Entry::new(t, i, self.version[i as usize])));
             i = next;
         }
+        true
     }
 
     /// Moves the live overflow events that now fall within a year of the current bucket into
