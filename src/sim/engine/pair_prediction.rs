@@ -315,7 +315,9 @@ impl<
             while hits != 0 {
                 let k = hits.trailing_zeros() as usize;
                 hits &= hits - 1;
-                let j = a[k].j;
+                // The partner from the entry itself, which is in memory: `a[k].j` was kept on
+                // the stack for this (four stores a group).
+                let j = split(four[k]).0;
                 kept.add(Candidate {
                     t: now + t[k],
                     j,
