@@ -34,10 +34,12 @@ impl<
         for &e in &old {
             self.lists.mark_old(e);
         }
-        let found = self.within_reach(i, ci);
+        let count = self.within_reach(i, ci);
+        // Taken out for the loops, which then read it as one slice (no bounds check or reload
+        // of the vector an entry).
+        let found = std::mem::take(&mut self.found);
         self.fresh.clear();
-        for k in 0..found {
-            let e = self.found[k];
+        for &e in &found[..count] {
             let before = self.lists.match_new(e);
             if before != Before::Same {
                 let (j, code) = split(e);
@@ -57,7 +59,8 @@ impl<
             }
         }
         self.old = old;
-        self.lists.set(i, &self.found[..found]);
+        self.lists.set(i, &found[..count]);
+        self.found = found;
     }
 
     /// Builds every list from the centres alone (at the start and after loading a
