@@ -696,14 +696,10 @@ impl<
         self.advance(i);
         let horizon = self.predict_shell(i);
         let (pairs, complete, beyond) = self.predict_pairs(i, false, horizon);
+        // The static contact's fields are written below with walls; without, they keep their
+        // defaults (no static contact) for good.
         let best = &mut self.best[i as usize];
-        *best = Best {
-            pairs,
-            complete,
-            beyond,
-            shell_t: best.shell_t,
-            ..Best::default()
-        };
+        (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
         if WALLS {
             let b = self.m.bodies[i as usize];
             // Report-only: the shape last met is not met again (`ReportOnly::shape`).
