@@ -1068,3 +1068,78 @@ fn a_cluster_given_two_velocities_is_refused_with_short_numbers() {
         .to_string();
     assert!(err.contains("([1e25, 0, 0])") && err.len() < 200, "{err}");
 }
+
+/// Two spheres meeting where their centres round to one point (`10¹⁷`, a grid of 16): no
+/// direction between them, so they meet head-on along their approach and exchange velocities
+/// (they went NaN, and the run then read as flown apart).
+#[test]
+fn a_pair_whose_centres_round_to_one_point_meets_head_on() {
+    let ball = |x: f64, vx: f64| SphereState {
+        centre: DVec3::new(x, 0.0, 0.0),
+        velocity: DVec3::new(vx, 0.0, 0.0),
+        radius: 1.0,
+        mass: 1.0,
+        material: 0,
+    };
+    let w = World {
+        spheres: vec![ball(1e17, 1.0), ball(1e17 + 64.0, -1.0)],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.advance_to(40.0).unwrap();
+    let s = sim.spheres();
+    assert_eq!(sim.stats().pair_collisions, 1);
+    assert_eq!((s[0].velocity, s[1].velocity), (-DVec3::X, DVec3::X));
+    assert!(s.iter().all(|s| s.centre.is_finite()), "{s:?}");
+    assert_eq!(sim.kinetic_energy(), 1.0);
+}
+
+/// A sphere that fills its container (its radius the container's) has no room: moving, or
+/// under gravity, it is refused, naming both (it went NaN at its first touch, or stalled); at
+/// rest it is taken and stays.
+#[test]
+fn a_sphere_that_fills_its_container_is_refused_if_it_moves() {
+    let world = |radius: f64, x: f64, vx: f64, gravity: DVec3| World {
+        spheres: vec![SphereState {
+            centre: DVec3::new(x, 0.0, 0.0),
+            velocity: DVec3::new(vx, 0.0, 0.0),
+            radius,
+            mass: 1.0,
+            material: 0,
+        }],
+        statics: Statics::new().with(Container::new([0.0; 3], 2.0).unwrap(), 0),
+        effects: Effects {
+            gravity,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let down = DVec3::new(0.0, 0.0, -1.0);
+    for (radius, x, vx, g) in [
+        (2.0, 0.0, 1.0, DVec3::ZERO),
+        (2.0, 1e-9, 1.0, DVec3::ZERO),
+        (2.0, 0.0, 0.0, down),
+    ] {
+        let err = Simulation::new(world(radius, x, vx, g)).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                SimError::NoRoom {
+                    sphere: 0,
+                    container: 0,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("fills container 0"), "{err}");
+    }
+    let mut still = Simulation::new(world(2.0, 0.0, 0.0, DVec3::ZERO)).unwrap();
+    still.advance_to(5.0).unwrap();
+    assert_eq!(still.spheres()[0].centre, DVec3::ZERO);
+    // With the least room it moves, bouncing (half a million events a unit of time).
+    let mut tight = Simulation::new(world(1.999_999, 0.0, 1.0, DVec3::ZERO)).unwrap();
+    tight.advance_to(0.1).unwrap();
+    tight.check_invariant().unwrap();
+    assert_eq!(tight.kinetic_energy(), 0.5);
+}

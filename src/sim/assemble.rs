@@ -48,6 +48,7 @@ impl Simulation {
         let start_images = start_images(&world, &cells, periodic);
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
+        check_room(&world)?;
         let sides = invariant::sides(&m.bodies, &walls);
         let response = ResponseChoice::of(&world, &m.material);
         let materials = m.material.clone();
@@ -399,6 +400,29 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
 
 /// No two spheres overlap, and no sphere is through a shape, beyond the tolerance (the
 /// invariant's check at the start, where each sphere's side of a plane is the one it is on).
+/// Refuses a sphere that fills a container (every sphere starts inside each) and moves or
+/// falls: touching the wall all round, it has no room, and would meet the wall again at the
+/// same time without end (a stall). At rest without gravity it stays, touching.
+fn check_room(world: &World) -> Result<(), SimError> {
+    let falls = world.effects.gravity != DVec3::ZERO;
+    for (body, shape, _) in world.statics.iter() {
+        let Some((_, room)) = shape.interior() else {
+            continue;
+        };
+        let fills =
+            |s: &&super::SphereState| s.radius >= room && (falls || s.velocity != DVec3::ZERO);
+        if let Some((sphere, s)) = world.spheres.iter().enumerate().find(|(_, s)| fills(s)) {
+            return Err(SimError::NoRoom {
+                sphere,
+                container: body.index as usize,
+                radius: s.radius,
+                room,
+            });
+        }
+    }
+    Ok(())
+}
+
 fn check_start(
     m: &Motion,
     cells: &Cells,

@@ -561,8 +561,13 @@ impl<
                 -depth
             );
         }
-        if depth > self.stats.max_overlap * d {
+        if depth >= self.stats.max_overlap * d {
             self.stats.max_overlap = self.stats.max_overlap.max(depth / d);
+            // Centres that round to one point (far from the origin) give no direction: the
+            // whole contact distance deep, the most an overlap can be, they are found here.
+            if depth == d {
+                dr = head_on(bi.v - bj.v, d);
+            }
         }
         self.outcome.clear();
         self.responder
@@ -903,6 +908,14 @@ impl<
         self.reschedule();
         Ok(())
     }
+}
+
+/// The separation of a pair in contact whose centres give no direction (they round to one
+/// point, far from the origin): `length` along the approach `towards`, so that the contact is
+/// head-on, as the queries' fallback normal takes it (`contact.rs`; zero if nothing moves).
+#[cold]
+fn head_on(towards: DVec3, length: f64) -> DVec3 {
+    towards.normalize_or_zero() * length
 }
 
 /// A point in the periodic box (elsewhere as it is): centres are read out wrapped, and an

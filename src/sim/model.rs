@@ -222,6 +222,25 @@ pub enum SimError {
         /// Penetration depth.
         depth: f64,
     },
+    /// A sphere fills a container (its radius at least the container's) and moves or falls:
+    /// touching the wall all round, it would meet it again at once without end.
+    #[error(
+        "sphere {sphere} (radius {}) fills container {container} (radius {}): it has no room \
+         to move, yet it moves or falls; give it no velocity (and the scene no gravity), or a \
+         smaller radius",
+        crate::error::Num(*radius),
+        crate::error::Num(*room)
+    )]
+    NoRoom {
+        /// The sphere.
+        sphere: usize,
+        /// The container's index.
+        container: usize,
+        /// The sphere's radius.
+        radius: f64,
+        /// The container's radius.
+        room: f64,
+    },
     /// A periodic box is too small for its spheres or not valid.
     #[error(
         "periodic box {axis}: length {} must be finite and at least three largest diameters ({})",

@@ -175,6 +175,12 @@ impl SceneFile {
                 let (item, path) = self.sphere_item(*sphere);
                 self.sim_error(format!("{item} and {shape} {index}"), &path, err)
             }
+            SimError::NoRoom {
+                sphere, container, ..
+            } => {
+                let (item, path) = self.sphere_item(*sphere);
+                self.sim_error(format!("{item} and container {container}"), &path, err)
+            }
             SimError::Box { .. } => self.sim_error("boundary", &[Key("boundary")], err),
             SimError::PeriodicShape { shape, index, .. } => {
                 let item = format!("{shape} {index}");
