@@ -3,7 +3,7 @@
 //! scene is within the engine's range (docs/derivations/simulation.md, "Contacts far from the
 //! origin").
 
-use super::{Boundary, OVERLAP_TOLERANCE, World};
+use super::{Boundary, OVERLAP_TOLERANCE, Simulation, World};
 use crate::error::Num;
 
 /// A sphere whose centre rounds by more than the tolerance of a contact with a sphere of its
@@ -61,7 +61,8 @@ impl World {
     /// The first sphere whose centre rounds coarsest against its contacts' tolerance, if that
     /// is beyond it: `√3 ulp(max |xₖ|) > 2⁻¹⁶ · 2 radius` (in a periodic box, the box's
     /// largest length for `max |xₖ|`). Never for a sphere within `2³⁶` radii of the origin on
-    /// every axis; only the start is checked (the summary's largest overlap shows the rest).
+    /// every axis. This is the start; [`Simulation::coarse_sphere`] checks where the spheres
+    /// are later.
     ///
     /// ```
     /// use glam::DVec3;
@@ -112,6 +113,37 @@ impl World {
             others: count - 1,
             ..w
         })
+    }
+}
+
+impl Simulation {
+    /// [`World::coarse_sphere`] of the spheres where they are now: spheres that have flown far
+    /// from the origin since the start (a cluster carried off at speed) may meet where their
+    /// coordinates round coarser than their contacts' tolerance.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use spheresweep::sim::{Simulation, SphereState, World};
+    /// let ball = SphereState {
+    ///     centre: DVec3::ZERO,
+    ///     velocity: DVec3::new(1e11, 0.0, 0.0),
+    ///     radius: 0.5,
+    ///     mass: 1.0,
+    ///     material: 0,
+    /// };
+    /// let mut sim = Simulation::new(World { spheres: vec![ball], ..World::default() })?;
+    /// assert!(sim.coarse_sphere().is_none());
+    /// sim.advance_to(10.0)?; // at 1e12
+    /// assert_eq!(sim.coarse_sphere().map(|c| c.sphere), Some(0));
+    /// # Ok::<(), spheresweep::sim::SimError>(())
+    /// ```
+    pub fn coarse_sphere(&self) -> Option<CoarseSphere> {
+        let now = World {
+            spheres: self.spheres(),
+            boundary: self.boundary,
+            ..World::default()
+        };
+        now.coarse_sphere()
     }
 }
 

@@ -67,6 +67,11 @@ impl SimProgress {
         true
     }
 
+    /// Prints a line on stderr above the bar (which is drawn again below it).
+    pub fn say(&self, line: &str) {
+        self.bar.suspend(|| eprintln!("{line}"));
+    }
+
     /// Removes the bar.
     pub fn finish(&self) {
         self.bar.finish_and_clear();

@@ -496,6 +496,37 @@ fn a_scene_far_from_the_origin_is_warned_of_and_its_overlap_marked() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A pair flying along x from 10 short of `2³⁶` while it closes in y: at `2³⁶` (t = 10) its
+/// coordinates round coarser than its contacts' tolerance, so the run warns once, at the first
+/// stop past it (t = 12), naming the sphere; the same pair from the origin never is, and
+/// neither is warned of at the start. (Carried there from the origin instead, a sphere would
+/// leave its shell some `2³⁶` times on the way.)
+#[test]
+fn spheres_carried_far_during_a_run_are_warned_of_once() {
+    let dir = scratch("carried-far");
+    let edge = 2f64.powi(36) - 10.0;
+    for (name, x, far) in [("far", edge, true), ("near", 0.0, false)] {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &scene,
+            format!(
+                "[run]\nt_end = 20\nsnapshot_every = 4\n\n\
+                 [[sphere]]\ncentre = [{x:?}, 0, 0]\nradius = 0.5\nvelocity = [1, 0.5, 0]\n\n\
+                 [[sphere]]\ncentre = [{x:?}, 3, 0]\nradius = 0.5\nvelocity = [1, -0.5, 0]\n"
+            ),
+        )
+        .unwrap();
+        let o = run_support::output(&scene, &dir.join(name), &[]);
+        let (text, err) = (String::from_utf8_lossy(&o.stdout), run_support::stderr(&o));
+        assert!(o.status.success(), "{err}");
+        let warning = "warning: at t = 12, sphere 0: its coordinate ";
+        assert_eq!(err.contains(warning), far, "{err}");
+        assert_eq!(err.matches("warning").count(), usize::from(far), "{err}");
+        assert!(text.contains("collisions   1 pair"), "{text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Two spheres side by side flying together, asked to go to `10²⁰`: past their reach (about
 /// `5.6·10¹⁴`, where their positions would round by a good part of their gap) the run stops
 /// short, but keeps what it computed: a last frame at the reach, with the spheres on their

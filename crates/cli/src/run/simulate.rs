@@ -56,6 +56,9 @@ pub struct Run {
     event_bound: u64,
     /// Why the run stopped short of its end, if it did ([`Run::stop_short`]).
     pub stopped_short: Option<String>,
+    /// Whether a sphere has been found where its coordinates round coarser than its contacts'
+    /// tolerance (at the start, or at a stop since): warned of once.
+    coarse_warned: bool,
 }
 
 /// Where a run is: its scene file, its output directory, its periodic box (if any).
@@ -109,7 +112,10 @@ impl Run {
             place,
             checkpoints: 0,
             stopped_short: None,
+            // The scene's own warning names a sphere coarse at the start.
+            coarse_warned: false,
         };
+        run.coarse_warned = run.sim.coarse_sphere().is_some();
         if let Some(f) = run.events.as_mut() {
             let header = events::header(settings.geometry);
             writeln!(f.writer(), "{header}").map_err(|e| f.fail(e))?;
@@ -141,6 +147,8 @@ impl Run {
             place,
             checkpoints: 0,
             stopped_short: None,
+            // Said again at the first stop if still so (the scene's warning names the start).
+            coarse_warned: false,
         })
     }
 
@@ -191,6 +199,7 @@ impl Run {
                 Err(e) => return Err(e.into()),
             };
             bar.show(self.sim.time(), self.sim.stats());
+            self.warn_if_coarse(&bar);
             self.log_events()?;
             self.within_budget(over)?;
             if !finished {
@@ -231,6 +240,20 @@ impl Run {
             reason,
             at: reachable,
         })
+    }
+
+    /// Warns, once, of spheres that have flown where their coordinates round coarser than
+    /// their contacts' tolerance (the start's spheres are the scene's warning): their
+    /// collisions from now on may overlap by that much, which the summary's overlap measure
+    /// then shows.
+    fn warn_if_coarse(&mut self, bar: &crate::progress::SimProgress) {
+        if self.coarse_warned {
+            return;
+        }
+        if let Some(c) = self.sim.coarse_sphere() {
+            self.coarse_warned = true;
+            bar.say(&format!("warning: at t = {}, {c}", num(self.sim.time())));
+        }
     }
 
     /// Bytes the outputs have taken so far.
