@@ -187,7 +187,10 @@ pub enum SimError {
         problem: Problem,
     },
     /// A material index that names no material.
-    #[error("{item}: material {material} does not exist ({count} materials)")]
+    #[error(
+        "{item}: material {material} does not exist ({})",
+        match count { 1 => "only material 0, the default".to_string(), n => format!("{n} materials, 0 to {}", n - 1) }
+    )]
     Material {
         /// The item (`"sphere 3"`, `"plane 0"`, `"material pair 1"`).
         item: String,
@@ -198,7 +201,9 @@ pub enum SimError {
     },
     /// Two spheres overlap at the start by more than the engine's tolerance.
     #[error(
-        "spheres {a} and {b} overlap by {depth:e} (a length in the scene's units; the tolerance is {tolerance:e} of their contact distance)"
+        "spheres {a} and {b} overlap by {} (a length in the scene's units; the tolerance is {} of their contact distance)",
+        crate::error::Num(*depth),
+        crate::error::Num(*tolerance)
     )]
     Overlap {
         /// One sphere.
@@ -211,7 +216,10 @@ pub enum SimError {
         tolerance: f64,
     },
     /// A sphere starts through a static shape (or outside a container).
-    #[error("sphere {sphere} starts through {shape} {index} (by {depth:e})")]
+    #[error(
+        "sphere {sphere} starts through {shape} {index} (by {})",
+        crate::error::Num(*depth)
+    )]
     Penetrates {
         /// The sphere.
         sphere: usize,
@@ -254,6 +262,14 @@ pub enum SimError {
         length: f64,
         /// The smallest length accepted.
         needed: f64,
+    },
+    /// An open box that is not finite, or whose `hi` is not above its `lo` on every axis.
+    #[error("open box [{lo}, {hi}]: its corners must be finite, with hi > lo on every axis")]
+    OpenBox {
+        /// The lower corner given.
+        lo: DVec3,
+        /// The upper corner given.
+        hi: DVec3,
     },
     /// A static shape in a periodic box whose periodic images spheres could meet: the engine
     /// keeps none.
@@ -569,9 +585,7 @@ impl World {
         if let Boundary::OpenBox { lo, hi } = self.boundary
             && !(finite3(lo) && finite3(hi) && hi.cmpgt(lo).all())
         {
-            return Err(SimError::Effects(format!(
-                "open box [{lo}, {hi}] must be finite with hi > lo on every axis"
-            )));
+            return Err(SimError::OpenBox { lo, hi });
         }
         self.validate_magnitudes()
     }
@@ -582,7 +596,10 @@ impl World {
         let (what, ok) = match self.boundary {
             Boundary::Open => (OutOfRange::OpenBox, true),
             Boundary::OpenBox { lo, hi } => (OutOfRange::OpenBox, bounded3(lo) && bounded3(hi)),
-            Boundary::Periodic { size } => (OutOfRange::PeriodicBox, bounded3(size)),
+            // A length that is not finite is the box check's to name, with its axis.
+            Boundary::Periodic { size } => {
+                (OutOfRange::PeriodicBox, !finite3(size) || bounded3(size))
+            }
         };
         if !ok {
             return Err(SimError::Range { what });
@@ -679,7 +696,7 @@ mod tests {
                     vec![MaterialPair { b: 2, ..sticky }],
                     0.0,
                 ),
-                "material pair 0: material 2 does not exist (2 materials)",
+                "material pair 0: material 2 does not exist (2 materials, 0 to 1)",
             ),
             (world(Response::Elastic, vec![], -1.0), "tc = -1 must be"),
             (
@@ -693,5 +710,46 @@ mod tests {
             let e = w.validate().unwrap_err().to_string();
             assert!(e.contains(message), "{e}");
         }
+    }
+
+    /// A boundary's fault is named as the boundary's, with the axis where there is one; a
+    /// material past an empty list names the one material there is.
+    #[test]
+    fn a_boundary_or_material_fault_names_what_was_given() {
+        let with = |boundary| World {
+            boundary,
+            ..world(Response::Elastic, vec![], 0.0)
+        };
+        let flat = Boundary::OpenBox {
+            lo: DVec3::ZERO,
+            hi: DVec3::new(1.0, 0.0, 1.0),
+        };
+        let e = with(flat).validate().unwrap_err();
+        assert!(matches!(e, SimError::OpenBox { .. }), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("open box [[0, 0, 0], [1, 0, 1]]: its corners")
+        );
+        let nan = Boundary::Periodic {
+            size: DVec3::new(10.0, f64::NAN, 10.0),
+        };
+        let e = crate::sim::Simulation::new(with(nan))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("periodic box y: length NaN must be finite"),
+            "{e}"
+        );
+        let none = World {
+            materials: Vec::new(),
+            ..world(Response::Elastic, vec![], 0.0)
+        };
+        let mut one = none.clone();
+        one.spheres[0].material = 1;
+        let e = one.validate().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "sphere 0: material 1 does not exist (only material 0, the default)"
+        );
     }
 }

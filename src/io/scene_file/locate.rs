@@ -181,7 +181,9 @@ impl SceneFile {
                 let (item, path) = self.sphere_item(*sphere);
                 self.sim_error(format!("{item} and container {container}"), &path, err)
             }
-            SimError::Box { .. } => self.sim_error("boundary", &[Key("boundary")], err),
+            SimError::Box { .. } | SimError::OpenBox { .. } => {
+                self.sim_error("boundary", &[Key("boundary")], err)
+            }
             SimError::PeriodicShape { shape, index, .. } => {
                 let item = format!("{shape} {index}");
                 self.sim_error(item, &[Key(shape.name()), At(*index)], err)
