@@ -14,7 +14,10 @@ use crate::statics::Statics;
 
 impl Simulation {
     /// Validates the world, checks that no two bodies overlap beyond [`OVERLAP_TOLERANCE`],
-    /// and assembles the engine for exactly the effects the world uses.
+    /// and assembles the engine for exactly the effects the world uses. A world placed so far
+    /// from the origin that its coordinates round coarser than its contacts' tolerance is
+    /// taken (units are the caller's); [`World::coarse_sphere`] names such a sphere, and
+    /// [`Simulation::coarse_sphere`] one that has flown there since.
     ///
     /// ```
     /// # use glam::DVec3;
