@@ -960,9 +960,11 @@ fn a_sphere_wrapped_across_a_face_still_meets_the_static_shapes() {
 }
 
 /// A periodic sphere's unwrapped centre, `centre + images · size`, follows its line at every
-/// time read, not only after its shell event counts the crossing.
+/// time read, not only after its shell event counts the crossing, from the centre given (in
+/// the box or box lengths away); the invariant reads the sphere's side of a plane from where
+/// it started in the box.
 #[test]
-fn the_unwrapped_centre_follows_the_line_between_shell_events() {
+fn the_unwrapped_centre_follows_the_line_from_the_centre_given() {
     let size = DVec3::splat(8.0);
     let velocity = DVec3::new(1.0, 0.0, -0.5);
     // A plane across y, which the sphere never reaches: the invariant reads its side.
@@ -1137,7 +1139,11 @@ fn a_sphere_that_fills_its_container_is_refused_if_it_moves() {
     let mut still = Simulation::new(world(2.0, 0.0, 0.0, DVec3::ZERO)).unwrap();
     still.advance_to(5.0).unwrap();
     assert_eq!(still.spheres()[0].centre, DVec3::ZERO);
-    // With the least room it moves, bouncing (half a million events a unit of time).
+    // Set moving later, it is refused alike, and stays.
+    let err = still.set_velocities(&[DVec3::X]).unwrap_err();
+    assert!(matches!(err, SimError::NoRoom { sphere: 0, .. }), "{err}");
+    still.set_velocities(&[DVec3::ZERO]).unwrap();
+    // With room 10⁻⁶ it moves, bouncing (half a million events a unit of time).
     let mut tight = Simulation::new(world(1.999_999, 0.0, 1.0, DVec3::ZERO)).unwrap();
     tight.advance_to(0.1).unwrap();
     tight.check_invariant().unwrap();

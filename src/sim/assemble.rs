@@ -51,7 +51,12 @@ impl Simulation {
         let start_images = start_images(&world, &cells, periodic);
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
-        check_room(&world)?;
+        let filling = filling(&world);
+        let velocities: Vec<DVec3> = world.spheres.iter().map(|s| s.velocity).collect();
+        let falls = world.effects.gravity != DVec3::ZERO;
+        if let Some(e) = moving_without_room(&filling, &velocities, falls) {
+            return Err(e);
+        }
         let sides = invariant::sides(&m.bodies, &walls);
         let response = ResponseChoice::of(&world, &m.material);
         let materials = m.material.clone();
@@ -87,6 +92,7 @@ impl Simulation {
             sides,
             boundary: world.boundary,
             start_images,
+            filling,
         })
     }
 }
@@ -401,31 +407,45 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
     }
 }
 
-/// No two spheres overlap, and no sphere is through a shape, beyond the tolerance (the
-/// invariant's check at the start, where each sphere's side of a plane is the one it is on).
-/// Refuses a sphere that fills a container (every sphere starts inside each) and moves or
-/// falls: touching the wall all round, it has no room, and would meet the wall again at the
-/// same time without end (a stall). At rest without gravity it stays, touching.
-fn check_room(world: &World) -> Result<(), SimError> {
-    let falls = world.effects.gravity != DVec3::ZERO;
+/// The spheres that fill a container (every sphere starts inside each; a radius at least the
+/// container's), each as the error that refuses it moving: touching the wall all round, it has
+/// no room, and moving or falling it would meet the wall again at the same time without end (a
+/// stall). At rest without gravity it stays, touching.
+fn filling(world: &World) -> Vec<SimError> {
+    let mut out = Vec::new();
     for (body, shape, _) in world.statics.iter() {
-        let Some((_, room)) = shape.interior() else {
+        let Some((_, container_radius)) = shape.interior() else {
             continue;
         };
-        let fills =
-            |s: &&super::SphereState| s.radius >= room && (falls || s.velocity != DVec3::ZERO);
-        if let Some((sphere, s)) = world.spheres.iter().enumerate().find(|(_, s)| fills(s)) {
-            return Err(SimError::NoRoom {
+        let fills = world.spheres.iter().enumerate();
+        for (sphere, s) in fills.filter(|(_, s)| s.radius >= container_radius) {
+            out.push(SimError::NoRoom {
                 sphere,
                 container: body.index as usize,
                 radius: s.radius,
-                room,
+                container_radius,
             });
         }
     }
-    Ok(())
+    out
 }
 
+/// The first of `filling` (see [`filling`]) whose sphere would move: given a velocity, or
+/// under gravity.
+pub(super) fn moving_without_room(
+    filling: &[SimError],
+    velocities: &[DVec3],
+    falls: bool,
+) -> Option<SimError> {
+    let moves = |e: &&SimError| match e {
+        SimError::NoRoom { sphere, .. } => falls || velocities[*sphere] != DVec3::ZERO,
+        _ => false,
+    };
+    filling.iter().find(moves).cloned()
+}
+
+/// No two spheres overlap, and no sphere is through a shape, beyond the tolerance (the
+/// invariant's check at the start, where each sphere's side of a plane is the one it is on).
 fn check_start(
     m: &Motion,
     cells: &Cells,

@@ -105,6 +105,9 @@ pub struct Simulation {
     /// The faces each periodic sphere given outside the box was taken across to start in it
     /// (its centre wrapped in); empty if none was.
     start_images: Vec<[i64; 3]>,
+    /// The spheres that fill a container, each as the error that refuses it moving
+    /// (`assemble::filling`): none may be given a velocity.
+    filling: Vec<SimError>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -150,7 +153,8 @@ impl Simulation {
     pub fn images(&self) -> Vec<[i64; 3]> {
         let mut images = self.crossed();
         for (k, start) in images.iter_mut().zip(&self.start_images) {
-            *k = std::array::from_fn(|a| k[a] + start[a]);
+            // Saturating: a centre given past 2⁶³ box lengths counts as that many.
+            *k = std::array::from_fn(|a| k[a].saturating_add(start[a]));
         }
         images
     }
@@ -217,6 +221,9 @@ impl Simulation {
             });
         }
         model::fastest_in_range(velocities.iter().copied())?;
+        if let Some(e) = assemble::moving_without_room(&self.filling, velocities, false) {
+            return Err(e);
+        }
         self.engine.set_velocities(velocities)
     }
 

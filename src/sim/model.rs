@@ -189,7 +189,7 @@ pub enum SimError {
     /// A material index that names no material.
     #[error(
         "{item}: material {material} does not exist ({})",
-        match count { 1 => "only material 0, the default".to_string(), n => format!("{n} materials, 0 to {}", n - 1) }
+        match count { 0 | 1 => "only material 0 exists".to_string(), n => format!("{n} materials, 0 to {}", n - 1) }
     )]
     Material {
         /// The item (`"sphere 3"`, `"plane 0"`, `"material pair 1"`).
@@ -237,7 +237,7 @@ pub enum SimError {
          to move, yet it moves or falls; give it no velocity (and the scene no gravity), or a \
          smaller radius",
         crate::error::Num(*radius),
-        crate::error::Num(*room)
+        crate::error::Num(*container_radius)
     )]
     NoRoom {
         /// The sphere.
@@ -247,7 +247,7 @@ pub enum SimError {
         /// The sphere's radius.
         radius: f64,
         /// The container's radius.
-        room: f64,
+        container_radius: f64,
     },
     /// A periodic box is too small for its spheres or not valid.
     #[error(
@@ -749,7 +749,7 @@ mod tests {
         let e = one.validate().unwrap_err().to_string();
         assert_eq!(
             e,
-            "sphere 0: material 1 does not exist (only material 0, the default)"
+            "sphere 0: material 1 does not exist (only material 0 exists)"
         );
     }
 }

@@ -57,7 +57,8 @@ pub struct Run {
     /// Why the run stopped short of its end, if it did ([`Run::stop_short`]).
     pub stopped_short: Option<String>,
     /// Whether a sphere has been found where its coordinates round coarser than its contacts'
-    /// tolerance (at the start, or at a stop since): warned of once.
+    /// tolerance (at the start, or at a stop since): warned of once a process (a resumed run
+    /// says it again at its first stop if still so).
     coarse_warned: bool,
 }
 
@@ -80,6 +81,7 @@ impl Run {
         place: Place,
     ) -> Result<Self, String> {
         let dir = &place.dir;
+        let start_coarse = sim.coarse_sphere().is_some();
         let counters = Counters {
             next_stop: 0,
             frames: 0,
@@ -113,9 +115,8 @@ impl Run {
             checkpoints: 0,
             stopped_short: None,
             // The scene's own warning names a sphere coarse at the start.
-            coarse_warned: false,
+            coarse_warned: start_coarse,
         };
-        run.coarse_warned = run.sim.coarse_sphere().is_some();
         if let Some(f) = run.events.as_mut() {
             let header = events::header(settings.geometry);
             writeln!(f.writer(), "{header}").map_err(|e| f.fail(e))?;
@@ -247,7 +248,8 @@ impl Run {
     /// collisions from now on may overlap by that much, which the summary's overlap measure
     /// then shows.
     fn warn_if_coarse(&mut self, bar: &crate::progress::SimProgress) {
-        if self.coarse_warned {
+        // In a periodic box the box's length counts, which the start's warning named.
+        if self.coarse_warned || self.place.periodic_box.is_some() {
             return;
         }
         if let Some(c) = self.sim.coarse_sphere() {
