@@ -33,6 +33,17 @@ fn max_overlap(spheres: &[SphereState], size: Option<DVec3>) -> f64 {
     worst
 }
 
+/// A sphere of radius 1 and mass 1 on the x axis at `x`, moving along it at `vx`.
+fn bead(x: f64, vx: f64) -> SphereState {
+    SphereState {
+        centre: DVec3::new(x, 0.0, 0.0),
+        velocity: DVec3::new(vx, 0.0, 0.0),
+        radius: 1.0,
+        mass: 1.0,
+        material: 0,
+    }
+}
+
 fn box_size(w: &World) -> Option<DVec3> {
     match w.boundary {
         Boundary::Periodic { size } => Some(size),
@@ -1047,15 +1058,8 @@ fn new_velocities_out_of_range_are_refused_naming_the_sphere() {
 /// give, in short form (`1e25`, not 26 digits).
 #[test]
 fn a_cluster_given_two_velocities_is_refused_with_short_numbers() {
-    let ball = |x: f64, vx: f64| SphereState {
-        centre: DVec3::new(x, 0.0, 0.0),
-        velocity: DVec3::new(vx, 0.0, 0.0),
-        radius: 1.0,
-        mass: 1.0,
-        material: 0,
-    };
     let w = World {
-        spheres: vec![ball(0.0, 1.0), ball(3.0, -1.0)],
+        spheres: vec![bead(0.0, 1.0), bead(3.0, -1.0)],
         effects: Effects {
             response: Response::Sticky,
             ..Effects::default()
@@ -1076,15 +1080,8 @@ fn a_cluster_given_two_velocities_is_refused_with_short_numbers() {
 /// (they went NaN, and the run then read as flown apart).
 #[test]
 fn a_pair_whose_centres_round_to_one_point_meets_head_on() {
-    let ball = |x: f64, vx: f64| SphereState {
-        centre: DVec3::new(x, 0.0, 0.0),
-        velocity: DVec3::new(vx, 0.0, 0.0),
-        radius: 1.0,
-        mass: 1.0,
-        material: 0,
-    };
     let w = World {
-        spheres: vec![ball(1e17, 1.0), ball(1e17 + 64.0, -1.0)],
+        spheres: vec![bead(1e17, 1.0), bead(1e17 + 64.0, -1.0)],
         ..World::default()
     };
     let mut sim = Simulation::new(w).unwrap();

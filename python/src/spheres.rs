@@ -221,7 +221,9 @@ impl Spheres {
             && !crate::args::is_bool(key)
             && key.hasattr("__index__")?
         {
-            let i = crate::args::integer(key, "index")?;
+            // Past i128 (`s[2**200]`) too: out of range, as Python's own lists say.
+            let i = crate::args::integer(key, "index")
+                .map_err(|e| PyIndexError::new_err(e.value(key.py()).to_string()))?;
             let k = if i < 0 { i + n } else { i };
             if !(0..n).contains(&k) {
                 return Err(out_of_range(i));

@@ -297,6 +297,8 @@ def test_spheres_are_selected_as_numpy_indexes_and_a_far_index_is_named():
         s[np.uint64(2**63 + 5)]
     with pytest.raises(IndexError, match=r"index -6 is out of range for 5 spheres"):
         s[-6]
+    with pytest.raises(IndexError, match=r"index: \d+ is out of range"):
+        s[2**200]
 
 
 def test_a_tiny_size_is_named_and_a_tiny_coordinate_rounds():

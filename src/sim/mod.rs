@@ -482,7 +482,8 @@ impl Simulation {
     }
 
     /// Bytes the simulation holds (engine arrays, grid, calendar, unread event records, and
-    /// the per-sphere mass and material it reports back), for sizing runs.
+    /// the per-sphere mass, material, sides of planes and start images it keeps), for sizing
+    /// runs.
     ///
     /// ```
     /// use spheresweep::sim::{Simulation, World, generate};
@@ -493,7 +494,11 @@ impl Simulation {
     /// # Ok::<(), spheresweep::sim::SimError>(())
     /// ```
     pub fn memory_bytes(&self) -> usize {
-        self.engine.bytes() + self.masses.capacity() * 8 + self.materials.capacity() * 2
+        self.engine.bytes()
+            + self.masses.capacity() * 8
+            + self.materials.capacity() * 2
+            + self.sides.capacity()
+            + self.start_images.capacity() * 24
     }
 
     /// Bytes a simulation of `spheres` spheres will hold, estimated before its world is built
