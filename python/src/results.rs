@@ -69,6 +69,30 @@ fn geometry_columns(
     Ok([read(point, "point")?, read(normal, "normal")?])
 }
 
+/// The columns both results have, each read as the dtype its class keeps: `time` float32,
+/// `kind` uint8, `index` int64, and the optional geometry.
+type SharedColumns = (
+    Py<PyArray1<f32>>,
+    Py<PyArray1<u8>>,
+    Py<PyArray1<i64>>,
+    [Option<Py<PyArray2<f32>>>; 2],
+);
+
+fn shared_columns(
+    time: &Bound<'_, PyAny>,
+    kind: &Bound<'_, PyAny>,
+    index: &Bound<'_, PyAny>,
+    point: Option<&Bound<'_, PyAny>>,
+    normal: Option<&Bound<'_, PyAny>>,
+) -> PyResult<SharedColumns> {
+    Ok((
+        column(time, "time", "a 1-D float32 array")?,
+        column(kind, "kind", "a 1-D uint8 array")?,
+        column(index, "index", "a 1-D int64 array")?,
+        geometry_columns(point, normal)?,
+    ))
+}
+
 /// Refuses result columns that do not line up: each 1-D column as long as `time` (`n` rows),
 /// `point` and `normal` both given or neither, each `(n, 3)`, naming the column.
 fn same_rows(
@@ -146,10 +170,8 @@ impl FirstContacts {
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let time = column::<PyArray1<f32>>(time, "time", "a 1-D float32 array")?;
-        let kind = column::<PyArray1<u8>>(kind, "kind", "a 1-D uint8 array")?;
-        let index = column::<PyArray1<i64>>(index, "index", "a 1-D int64 array")?;
-        let [point, normal] = geometry_columns(point, normal)?;
+        let (time, kind, index, [point, normal]) =
+            shared_columns(time, kind, index, point, normal)?;
         let rows = [
             ("kind", kind.bind(py).len()),
             ("index", index.bind(py).len()),
@@ -259,11 +281,9 @@ impl Contacts {
         point: Option<&Bound<'_, PyAny>>,
         normal: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let time = column::<PyArray1<f32>>(time, "time", "a 1-D float32 array")?;
+        let (time, kind, index, [point, normal]) =
+            shared_columns(time, kind, index, point, normal)?;
         let sphere = column::<PyArray1<u32>>(sphere, "sphere", "a 1-D uint32 array")?;
-        let kind = column::<PyArray1<u8>>(kind, "kind", "a 1-D uint8 array")?;
-        let index = column::<PyArray1<i64>>(index, "index", "a 1-D int64 array")?;
-        let [point, normal] = geometry_columns(point, normal)?;
         let rows = [
             ("sphere", sphere.bind(py).len()),
             ("kind", kind.bind(py).len()),
