@@ -52,9 +52,8 @@ impl Simulation {
         let walls = world.statics.clone();
         check_start(&m, &cells, periodic, &walls)?;
         let filling = filling(&world);
-        let velocities: Vec<DVec3> = world.spheres.iter().map(|s| s.velocity).collect();
         let falls = world.effects.gravity != DVec3::ZERO;
-        if let Some(e) = moving_without_room(&filling, &velocities, falls) {
+        if let Some(e) = moving_without_room(&filling, |i| world.spheres[i].velocity, falls) {
             return Err(e);
         }
         let sides = invariant::sides(&m.bodies, &walls);
@@ -430,17 +429,14 @@ fn filling(world: &World) -> Vec<SimError> {
     out
 }
 
-/// The first of `filling` (see [`filling`]) whose sphere would move: given a velocity, or
-/// under gravity.
+/// The first of `filling` (see [`filling`]) whose sphere would move: given a velocity (sphere
+/// `i`'s is `velocity(i)`), or under gravity.
 pub(super) fn moving_without_room(
     filling: &[SimError],
-    velocities: &[DVec3],
+    velocity: impl Fn(usize) -> DVec3,
     falls: bool,
 ) -> Option<SimError> {
-    let moves = |e: &&SimError| match e {
-        SimError::NoRoom { sphere, .. } => falls || velocities[*sphere] != DVec3::ZERO,
-        _ => false,
-    };
+    let moves = |e: &&SimError| matches!(e, SimError::NoRoom { sphere, .. } if falls || velocity(*sphere) != DVec3::ZERO);
     filling.iter().find(moves).cloned()
 }
 

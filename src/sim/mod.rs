@@ -221,7 +221,7 @@ impl Simulation {
             });
         }
         model::fastest_in_range(velocities.iter().copied())?;
-        if let Some(e) = assemble::moving_without_room(&self.filling, velocities, false) {
+        if let Some(e) = assemble::moving_without_room(&self.filling, |i| velocities[i], false) {
             return Err(e);
         }
         self.engine.set_velocities(velocities)
