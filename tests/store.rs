@@ -75,10 +75,7 @@ fn column_errors_name_the_column_or_the_sphere_and_field() {
     let mut c = data(4);
     c[7][2] = 0.0;
     let err = SphereStore::from_columns(&columns(&c, true)).unwrap_err();
-    assert_eq!(
-        err.to_string(),
-        "sphere 2: sphere mass must be greater than zero"
-    );
+    assert_eq!(err.to_string(), "sphere 2: mass must be greater than zero");
     let mut c = data(4);
     c[1][3] = f32::NAN;
     match SphereStore::from_columns(&columns(&c, true)).unwrap_err() {
@@ -118,10 +115,7 @@ fn in_place_updates_are_validated() {
     let err = store
         .set_velocity(4, [0.0, f32::INFINITY, 0.0])
         .unwrap_err();
-    assert_eq!(
-        err.to_string(),
-        "sphere 4: sphere velocity is NaN or infinite"
-    );
+    assert_eq!(err.to_string(), "sphere 4: velocity is NaN or infinite");
     assert_eq!(store, before, "a refused update changes nothing");
     let mut out = [0.0; 2];
     assert!(store.column(Field::X).copy_to(&mut out).is_err());

@@ -31,7 +31,7 @@ pub(crate) const STORE_BYTES: usize = 32;
 ///
 /// Raises `TypeError` for a dtype that is not real numbers, `ValueError` for a wrong shape,
 /// mismatched lengths, or an invalid sphere (the message names the sphere and the field, e.g.
-/// `sphere 3: sphere radius is negative`), `MemoryError` for more spheres than memory holds.
+/// `sphere 3: radius is negative`), `MemoryError` for more spheres than memory holds.
 #[pyclass(frozen, module = "spheresweep._native")]
 pub struct Spheres {
     pub(crate) store: SphereStore,

@@ -264,14 +264,14 @@ ONE = dict(centres=[[0, 0, 0]], velocities=[[0, 0, 0]], radii=[1.0])
         (dict(ONE, radii=np.ones((1, 1), np.float32)), ValueError, r"radii: expected shape \(N,\)"),
         (dict(ONE, velocities=np.zeros((2, 3))), ValueError, "velocities: 2 entries, expected 1"),
         (dict(ONE, masses=[1.0, 2.0]), ValueError, "masses: 2 entries, expected 1"),
-        (dict(ONE, radii=[-1.0]), ValueError, "sphere 0: sphere radius is negative"),
-        (dict(ONE, centres=[[0, np.nan, 0]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
-        (dict(ONE, velocities=[[np.inf, 0, 0]]), ValueError, "sphere 0: sphere velocity is NaN or infinite"),
-        (dict(ONE, masses=[0.0]), ValueError, "sphere 0: sphere mass must be greater than zero"),
+        (dict(ONE, radii=[-1.0]), ValueError, "sphere 0: radius is negative"),
+        (dict(ONE, centres=[[0, np.nan, 0]]), ValueError, "sphere 0: centre is NaN or infinite"),
+        (dict(ONE, velocities=[[np.inf, 0, 0]]), ValueError, "sphere 0: velocity is NaN or infinite"),
+        (dict(ONE, masses=[0.0]), ValueError, "sphere 0: mass must be greater than zero"),
         (dict(ONE, centres=[[0, 0, 1e300]]), ValueError, r"centres\[0, 2\]: 1e300 is beyond float32's range"),
         (dict(ONE, radii=[2.0, 1e200][1:]), ValueError, r"radii\[0\]: 1e200 is beyond float32's range"),
         (dict(ONE, velocities=np.array([[0, -4e38, 0]])), ValueError, r"velocities\[0, 1\]: -4e38 is beyond"),
-        (dict(ONE, centres=[[0, 0, np.inf]]), ValueError, "sphere 0: sphere centre is NaN or infinite"),
+        (dict(ONE, centres=[[0, 0, np.inf]]), ValueError, "sphere 0: centre is NaN or infinite"),
         # A size float32 rounds to zero would read as a point or as "not greater than zero".
         (dict(ONE, radii=[1e-300]), ValueError, r"radii\[0\]: 1e-300 is below float32's range"),
         (dict(ONE, masses=[2e-46]), ValueError, r"masses\[0\]: 2e-46 is below float32's range"),
@@ -322,12 +322,12 @@ def test_a_float64_that_rounds_to_the_largest_float32_is_taken():
 def test_bad_sphere_is_named_by_index():
     r = np.ones(10, np.float32)
     r[7] = -2
-    with pytest.raises(ValueError, match="sphere 7: sphere radius is negative"):
+    with pytest.raises(ValueError, match="sphere 7: radius is negative"):
         ss.Spheres(np.zeros((10, 3)), np.zeros((10, 3)), r)
     x = np.arange(5, dtype=np.float32)
     with pytest.raises(ValueError, match="column vy has 4 entries, expected 5"):
         ss.Spheres.from_columns(x, x, x, x, x[:4], x, x + 1)
-    with pytest.raises(ValueError, match="sphere 2: sphere radius is negative"):
+    with pytest.raises(ValueError, match="sphere 2: radius is negative"):
         ss.Spheres.from_columns(x, x, x, x, x, x, 1 - x)
 
 

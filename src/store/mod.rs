@@ -136,8 +136,9 @@ pub enum StoreError {
         /// Its length.
         found: usize,
     },
-    /// A sphere failed validation.
-    #[error("sphere {index}: {source}")]
+    /// A sphere failed validation: its index, then the field and what is wrong (the kind is
+    /// the store's, not repeated).
+    #[error("sphere {index}: {} {}", source.field, source.problem)]
     Invalid {
         /// Its index in the input.
         index: usize,
@@ -220,7 +221,7 @@ impl SphereStore {
     /// let (x, zero) = ([0.0, 3.0], [0.0; 2]);
     /// let columns = Columns { x: &x, y: &zero, z: &zero, vx: &zero, vy: &zero, vz: &zero, r: &[1.0, -2.0], m: None };
     /// let err = SphereStore::from_columns(&columns).unwrap_err();
-    /// assert_eq!(err.to_string(), "sphere 1: sphere radius is negative");
+    /// assert_eq!(err.to_string(), "sphere 1: radius is negative");
     /// ```
     pub fn from_columns(columns: &Columns<'_>) -> Result<Self, StoreError> {
         let n = columns.check_lengths()?;
@@ -475,7 +476,7 @@ impl SphereStore {
     /// store.set_centre(0, [7.0, 8.0, 9.0])?;
     /// assert_eq!(store.get(0).unwrap().centre().to_array(), [7.0, 8.0, 9.0]);
     /// let err = store.set_centre(1, [f32::INFINITY, 0.0, 0.0]).unwrap_err();
-    /// assert_eq!(err.to_string(), "sphere 1: sphere centre is NaN or infinite");
+    /// assert_eq!(err.to_string(), "sphere 1: centre is NaN or infinite");
     /// # Ok::<(), spheresweep::Error>(())
     /// ```
     pub fn set_centre(&mut self, i: usize, centre: [f32; 3]) -> Result<(), StoreError> {
