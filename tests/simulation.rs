@@ -1146,3 +1146,26 @@ fn a_sphere_that_fills_its_container_is_refused_if_it_moves() {
     tight.check_invariant().unwrap();
     assert_eq!(tight.kinetic_energy(), 0.5);
 }
+
+/// A negative radius is called negative, as the shapes call it; a radius of zero (a point,
+/// which the queries take) is refused as not positive.
+#[test]
+fn a_radius_below_zero_is_called_negative_and_zero_not_positive() {
+    for (radius, said) in [
+        (-1.0, "sphere 1: radius is negative"),
+        (0.0, "sphere 1: radius must be greater than zero"),
+    ] {
+        let w = World {
+            spheres: vec![
+                bead(0.0, 0.0),
+                SphereState {
+                    radius,
+                    ..bead(3.0, 0.0)
+                },
+            ],
+            ..World::default()
+        };
+        let err = Simulation::new(w).unwrap_err().to_string();
+        assert_eq!(err, said);
+    }
+}

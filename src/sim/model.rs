@@ -527,7 +527,12 @@ impl World {
             if !s.radius.is_finite() {
                 return bad("radius", Problem::NotFinite);
             }
-            if s.radius <= 0.0 {
+            if s.radius < 0.0 {
+                return bad("radius", Problem::Negative);
+            }
+            if s.radius == 0.0 {
+                // A point has no contact distance with another point: the simulation keeps
+                // radii within its range (`in_range`), where the queries take points.
                 return bad("radius", Problem::NotPositive);
             }
             if !s.mass.is_finite() {
