@@ -38,12 +38,14 @@ create_exception!(
 );
 
 /// A simulation error as Python raises it: `MemoryError` for memory refused up front,
-/// `InvariantError` for a breach of the invariant, `ValueError` for the rest (the scene's or
+/// `InvariantError` for a breach of the invariant (or a state with NaN in it), `ValueError` for the rest (the scene's or
 /// the caller's values, named in the message).
 fn sim_error(e: sim::SimError) -> PyErr {
     match e {
         sim::SimError::Memory { .. } => PyMemoryError::new_err(e.to_string()),
-        sim::SimError::Breach { .. } => InvariantError::new_err(e.to_string()),
+        sim::SimError::Breach { .. } | sim::SimError::NotFinite { .. } => {
+            InvariantError::new_err(e.to_string())
+        }
         e => value_error(e),
     }
 }

@@ -246,7 +246,8 @@ impl Simulation {
     /// shape.
     ///
     /// # Errors
-    /// [`SimError::Breach`] naming the sphere, the other body, the depth and the time: the
+    /// [`SimError::Breach`] naming the sphere, the other body, the depth and the time, or
+    /// [`SimError::NotFinite`] naming a sphere whose centre or velocity is NaN or infinite: the
     /// engine broke its invariant (a bug).
     ///
     /// ```
@@ -280,6 +281,13 @@ impl Simulation {
         let time = self.engine.now();
         // The sides were taken where the spheres started in the box.
         let images = if periodic { self.crossed() } else { Vec::new() };
+        // A NaN compares as no overlap: a sphere with no number for a centre is named first.
+        if let Some(sphere) = bodies
+            .iter()
+            .position(|b| !(b.r.is_finite() && b.v.is_finite()))
+        {
+            return Err(SimError::NotFinite { time, sphere });
+        }
         match invariant::check(&bodies, cells, periodic, walls, sides, &images) {
             Ok((pairs, walls)) => Ok(InvariantReport { time, pairs, walls }),
             Err(_) if report_only => Ok(InvariantReport {

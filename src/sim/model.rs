@@ -366,6 +366,20 @@ pub enum SimError {
         /// The tolerance it exceeds (a length).
         tolerance: f64,
     },
+    /// A sphere's centre or velocity is NaN or infinite: no valid state leads to one (the
+    /// world's checks refuse every input that could), so this is a bug in the engine, caught
+    /// before it reads as an overlap, a flight or nothing at all.
+    #[error(
+        "t = {}: sphere {sphere}'s centre or velocity is NaN or infinite: the simulation broke \
+         its invariant (a bug in spheresweep; please report it with the scene)",
+        crate::error::Num(*time)
+    )]
+    NotFinite {
+        /// When it was found.
+        time: f64,
+        /// The sphere (public index).
+        sphere: usize,
+    },
     /// Inelastic collapse: a sphere collided again and again, each time within `2⁻²⁰` of a
     /// sphere's mean time between events of its previous collision — infinitely many collisions
     /// in finite time, which hard inelastic spheres undergo without the TC model.

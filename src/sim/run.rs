@@ -50,6 +50,9 @@ pub(super) trait Run: Send {
     /// Test-only fault injection: the horizon always used, and a quarter of the shell time.
     #[cfg(test)]
     fn break_horizon(&mut self);
+    /// Test-only fault injection: sphere `k`'s velocity (engine order) made NaN.
+    #[cfg(test)]
+    fn poison(&mut self, k: usize);
 }
 
 /// Per-response hooks the public type needs.
@@ -156,6 +159,10 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
     #[cfg(test)]
     fn break_horizon(&mut self) {
         self.broken_horizon = true;
+    }
+    #[cfg(test)]
+    fn poison(&mut self, k: usize) {
+        self.m.bodies[k].v.x = f64::NAN;
     }
     fn name(&self) -> String {
         format!(

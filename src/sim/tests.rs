@@ -608,3 +608,34 @@ fn a_periodic_gas_around_shapes_misses_no_contact_after_wrapping() {
     assert!(wrapped > 100, "{wrapped} spheres wrapped");
     sim.check_invariant().unwrap();
 }
+
+/// A state with no number in it is named as the engine's failure, not read as nothing wrong
+/// or as a flight: a pair flown apart (parked), one sphere's velocity made NaN, then the check
+/// of the invariant and an advance past the spheres' reach each name it (before, the check
+/// called it an overlap by NaN, or passed a lone sphere, and the advance called it flown).
+#[test]
+fn a_sphere_with_no_number_for_its_state_is_named() {
+    let ball = |x: f64, vx: f64| SphereState {
+        centre: DVec3::new(x, 0.0, 0.0),
+        velocity: DVec3::new(vx, 0.0, 0.0),
+        radius: 1.0,
+        mass: 1.0,
+        material: 0,
+    };
+    let w = World {
+        spheres: vec![ball(0.0, -1.0), ball(3.0, 1.0)],
+        ..World::default()
+    };
+    let mut sim = Simulation::new(w).unwrap();
+    sim.advance_to(1e3).unwrap();
+    assert!(sim.engine.flown_apart().is_some(), "parked");
+    sim.check_invariant().unwrap();
+    sim.engine.poison(1);
+    for err in [
+        sim.check_invariant().unwrap_err(),
+        sim.advance_to(1e40).unwrap_err(),
+    ] {
+        assert!(matches!(err, SimError::NotFinite { .. }), "{err}");
+        assert!(err.to_string().contains("NaN or infinite"), "{err}");
+    }
+}

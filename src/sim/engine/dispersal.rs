@@ -148,6 +148,13 @@ impl<
             .enumerate()
             .filter(|(_, b)| b.v != DVec3::ZERO)
         {
+            // A sphere with no number for a state has not flown: the engine failed.
+            if !(b.r.is_finite() && b.v.is_finite()) {
+                return Err(SimError::NotFinite {
+                    time: self.now,
+                    sphere: self.id_of[k] as usize,
+                });
+            }
             let reach = self.reach[k];
             let r = b.on_line(t);
             let beyond = !r.is_finite() || r.abs().max_element() > reach;
