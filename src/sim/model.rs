@@ -103,6 +103,48 @@ pub struct Effects {
     pub pairs: Vec<MaterialPair>,
     /// The TC model's duration (Luding & McNamara 1998): a collision of a sphere whose previous
     /// collision was less than `tc` ago is elastic. `0` turns it off.
+    ///
+    /// It also sets what rest costs under gravity: a sphere resting on a wall hops off it
+    /// about every `tc` (a settled pile of `N` makes a few `N/tc` events a unit of time);
+    /// without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the scene's size and `γ` the gravity
+    /// across the wall — thousands of hops a unit of time for a sphere resting 5 from the
+    /// origin under `g = 1` (docs/derivations/gravity.md, "Resting contact").
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// use spheresweep::sim::{Effects, Response, Simulation, SphereState, World};
+    /// use spheresweep::{Plane, Statics};
+    /// // One sphere dropped on a floor: its bounces die out, then it rests there, hopping.
+    /// let hops_a_unit_of_time = |tc: f64| {
+    ///     let world = World {
+    ///         spheres: vec![SphereState {
+    ///             centre: DVec3::new(0.0, 0.0, -3.0),
+    ///             velocity: DVec3::ZERO,
+    ///             radius: 1.0,
+    ///             mass: 1.0,
+    ///             material: 0,
+    ///         }],
+    ///         statics: Statics::new().with(Plane::new([0.0, 0.0, -5.0], [0.0, 0.0, 1.0])?, 0),
+    ///         effects: Effects {
+    ///             response: Response::Inelastic { restitution: 0.5 },
+    ///             gravity: DVec3::new(0.0, 0.0, -1.0),
+    ///             tc,
+    ///             ..Effects::default()
+    ///         },
+    ///         ..World::default()
+    ///     };
+    ///     let mut sim = Simulation::new(world)?;
+    ///     sim.advance_to(4.0)?; // at rest by now
+    ///     let before = sim.stats().wall_collisions;
+    ///     sim.advance_to(6.0)?;
+    ///     Ok::<_, spheresweep::Error>((sim.stats().wall_collisions - before) as f64 / 2.0)
+    /// };
+    /// let (with_tc, without) = (hops_a_unit_of_time(1e-3)?, hops_a_unit_of_time(0.0)?);
+    /// // A flight lasts at least tc; without it at least 2√(2ρ) with ρ = 5·2⁻³⁰ (|r| + radius).
+    /// assert!((500.0..=1000.0).contains(&with_tc), "{with_tc}"); // measured 883
+    /// assert!((2000.0..=5200.0).contains(&without), "{without}"); // measured 4558
+    /// # Ok::<(), spheresweep::Error>(())
+    /// ```
     pub tc: f64,
     /// Whether each recorded event carries its contact point and normal.
     pub geometry: bool,
