@@ -175,33 +175,55 @@ fn converted<'py, T: Element>(
 /// Refuses a float64 entry that is finite but beyond `float32`'s range (about ±3.4·10³⁸),
 /// which the conversion would make infinite, named by its position: the queries compute in
 /// `float32`, and "NaN or infinite" would name a value the caller never gave. With `sizes`,
-/// also a nonzero entry the conversion would make zero. Other dtypes convert within range
-/// (integers) or are left to the conversion (NumPy's `longdouble`).
+/// also a nonzero entry the conversion would make zero: a positive one as below the range, a
+/// negative one as negative (as `-0.0` a radius would pass for a point). A `float64` in the
+/// other byte order is read in this one first; other dtypes convert within range (integers) or
+/// are left to the conversion (NumPy's `longdouble`).
 fn outside_float32(array: &Bound<'_, PyUntypedArray>, name: &str, sizes: bool) -> PyResult<()> {
+    let dtype = array.dtype();
+    let native;
+    let array = if dtype.kind() == b'f'
+        && dtype.itemsize() == 8
+        && dtype.is_native_byteorder() == Some(false)
+    {
+        native = array
+            .call_method1("astype", (numpy::dtype::<f64>(array.py()),))?
+            .cast_into::<PyUntypedArray>()?;
+        &native
+    } else {
+        array
+    };
     let Ok(wide) = array.extract::<PyReadonlyArrayDyn<'_, f64>>() else {
         return Ok(());
     };
-    let view = wide.as_array();
     let lost = |x: f64| sizes && x != 0.0 && x as f32 == 0.0;
-    let far = view
+    let far = wide
+        .as_array()
         .indexed_iter()
-        .find(|&(_, &x)| x.is_finite() && ((x as f32).is_infinite() || lost(x)));
-    match far {
-        None => Ok(()),
-        Some((at, &x)) => {
-            let at: Vec<String> = at.slice().iter().map(usize::to_string).collect();
-            let (side, range) = if lost(x) {
-                ("below", "smallest about 1.4e-45")
-            } else {
-                ("beyond", "about ±3.4e38")
-            };
-            Err(PyValueError::new_err(format!(
-                "{name}[{}]: {x:e} is {side} float32's range ({range}), which the queries \
-                 compute in: choose units that bring it within",
-                at.join(", ")
-            )))
-        }
-    }
+        .find(|&(_, &x)| x.is_finite() && ((x as f32).is_infinite() || lost(x)))
+        .map(|(at, &x)| {
+            (
+                at.slice().iter().map(usize::to_string).collect::<Vec<_>>(),
+                x,
+            )
+        });
+    let Some((at, x)) = far else {
+        return Ok(());
+    };
+    let at = at.join(", ");
+    Err(PyValueError::new_err(if lost(x) && x < 0.0 {
+        format!("{name}[{at}]: {x:e} is negative")
+    } else {
+        let (side, range) = if lost(x) {
+            ("below", "smallest about 1.4e-45")
+        } else {
+            ("beyond", "about ±3.4e38")
+        };
+        format!(
+            "{name}[{at}]: {x:e} is {side} float32's range ({range}), which the queries \
+             compute in: choose units that bring it within"
+        )
+    }))
 }
 
 /// Refuses, as a `MemoryError` under the memory budget (`memory::check`), an array whose copy

@@ -275,6 +275,11 @@ ONE = dict(centres=[[0, 0, 0]], velocities=[[0, 0, 0]], radii=[1.0])
         # A size float32 rounds to zero would read as a point or as "not greater than zero".
         (dict(ONE, radii=[1e-300]), ValueError, r"radii\[0\]: 1e-300 is below float32's range"),
         (dict(ONE, masses=[2e-46]), ValueError, r"masses\[0\]: 2e-46 is below float32's range"),
+        # A tiny negative radius would round to -0.0 and pass for a point.
+        (dict(ONE, radii=[-1e-50]), ValueError, r"radii\[0\]: -1e-50 is negative"),
+        # A float64 in the other byte order is checked as one in this order.
+        (dict(ONE, centres=np.array([[0, 0, 1e300]], ">f8")), ValueError, r"centres\[0, 2\]: 1e300 is beyond"),
+        (dict(ONE, radii=np.array([1e-300], ">f8")), ValueError, r"radii\[0\]: 1e-300 is below"),
     ],
 )
 @pytest.mark.filterwarnings("ignore:overflow encountered in cast:RuntimeWarning")
