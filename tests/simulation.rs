@@ -1169,3 +1169,50 @@ fn a_radius_below_zero_is_called_negative_and_zero_not_positive() {
         assert_eq!(err, said);
     }
 }
+
+/// A running simulation read as a query's scene: the spheres where they are now, rounded to
+/// f32 (a query sphere and a simulation's convert both ways without loss from f32), the static
+/// shapes as the world gave them; and the query's next contact is the simulation's next
+/// event, to the f32 rounding of the positions (sphere 0 fired at a wall, 7.5 away at speed 1:
+/// contact at 6.5 from t = 1).
+#[test]
+fn a_running_simulation_reads_as_the_query_scene_of_its_state_now() {
+    let s = spheresweep::Sphere::new([0.1, -2.5, 1e-3], [3.0, 0.25, -1.0], 0.3, 7.0).unwrap();
+    assert_eq!(spheresweep::Sphere::try_from(&SphereState::from(s)), Ok(s));
+    let world = World {
+        spheres: vec![bead(0.0, 1.0), bead(0.0, 0.0)],
+        statics: Statics::new()
+            .with(Plane::new([8.5, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
+            .with(Container::new([0.0; 3], 20.0).unwrap(), 0),
+        ..World::default()
+    };
+    let world = World {
+        spheres: vec![
+            world.spheres[0],
+            SphereState {
+                centre: DVec3::new(0.0, 5.0, 0.0),
+                ..world.spheres[1]
+            },
+        ],
+        ..world
+    };
+    let mut sim = Simulation::new(world.clone()).unwrap();
+    sim.advance_to(1.0).unwrap();
+    let scene = sim.query_scene().unwrap();
+    assert_eq!(scene.statics.counts(), world.statics.counts());
+    assert_eq!(scene.spheres.len(), 2);
+    for (k, now) in sim.spheres().iter().enumerate() {
+        let q = scene.spheres.get(k).unwrap();
+        assert_eq!(q.centre(), now.centre.as_vec3());
+        assert_eq!(q.velocity(), now.velocity.as_vec3());
+    }
+    let first = spheresweep::query::first_contacts(&scene, spheresweep::QueryOptions::default());
+    let hit = first[0].unwrap();
+    assert_eq!(hit.time, 6.5);
+    assert!(first[1].is_none(), "sphere 1 is at rest");
+    // The simulation meets the plane then too (an advance is inclusive of its end).
+    sim.advance_to(1.0 + 6.5 - 1e-9).unwrap();
+    assert_eq!(sim.stats().wall_collisions, 0);
+    sim.advance_to(1.0 + 6.5).unwrap();
+    assert_eq!(sim.stats().wall_collisions, 1);
+}

@@ -568,6 +568,60 @@ impl Simulation {
             .collect()
     }
 
+    /// The spheres now and the static shapes as a query's [`Scene`](crate::scene::Scene):
+    /// each sphere's centre now is its centre at the query's `t = 0`, in f32 (`Sphere::try_from`),
+    /// so [`query::first_contacts`](crate::query::first_contacts) asks what each would meet
+    /// next on a straight line from here. The query knows no gravity (its lines are not the
+    /// parabolas the simulation follows) and no periodic box (a sphere near a face does not
+    /// meet the images across it). Rounded to f32, a pair that has just collided may read as
+    /// touching or overlapping by a rounding: receding, it is not a contact.
+    ///
+    /// # Errors
+    /// [`StoreError::Invalid`](crate::store::StoreError::Invalid) naming a sphere whose centre
+    /// or velocity has grown beyond f32's range (about 3.4·10³⁸; under gravity, after a long
+    /// fall): every value a new simulation takes is within it.
+    ///
+    /// ```
+    /// # use glam::DVec3;
+    /// use spheresweep::sim::{Simulation, SphereState, World};
+    /// use spheresweep::{Plane, QueryOptions, Statics, query};
+    /// let bead = |x: f64, vx: f64| SphereState {
+    ///     centre: DVec3::new(x, 0.0, 0.0),
+    ///     velocity: DVec3::new(vx, 0.0, 0.0),
+    ///     radius: 1.0,
+    ///     mass: 1.0,
+    ///     material: 0,
+    /// };
+    /// let world = World {
+    ///     spheres: vec![bead(0.0, 1.0), bead(10.0, 0.0)],
+    ///     statics: Statics::new().with(Plane::new([-5.0, 0.0, 0.0], [1.0, 0.0, 0.0])?, 0),
+    ///     ..World::default()
+    /// };
+    /// let mut sim = Simulation::new(world)?;
+    /// sim.advance_to(4.0)?;
+    /// let scene = sim.query_scene()?;
+    /// let first = query::first_contacts(&scene, QueryOptions::default());
+    /// // Sphere 0 is at x = 4, 4 short of touching sphere 1: it meets it 4 from now.
+    /// assert_eq!(first[0].unwrap().time, 4.0);
+    /// assert_eq!(scene.statics.len(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn query_scene(&self) -> Result<crate::scene::Scene, crate::store::StoreError> {
+        let spheres = self
+            .spheres()
+            .iter()
+            .enumerate()
+            .map(|(index, s)| {
+                crate::Sphere::try_from(s)
+                    .map_err(|source| crate::store::StoreError::Invalid { index, source })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(crate::scene::Scene {
+            spheres: crate::SphereStore::from_spheres(&spheres),
+            statics: self.engine.layout().1.map(|_, _| ()),
+        })
+    }
+
     /// Total kinetic energy `Σ ½ m v²`.
     ///
     /// ```

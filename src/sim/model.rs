@@ -23,6 +23,60 @@ pub struct SphereState {
     pub material: u16,
 }
 
+/// A query's sphere as a simulation's: the same values in f64 (exact), material 0.
+///
+/// ```
+/// use spheresweep::Sphere;
+/// use spheresweep::sim::SphereState;
+/// let s = SphereState::from(Sphere::new([1.0, 2.0, 3.0], [0.5, 0.0, 0.0], 0.25, 2.0)?);
+/// assert_eq!((s.centre.x, s.velocity.x, s.radius, s.mass, s.material), (1.0, 0.5, 0.25, 2.0, 0));
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+impl From<crate::Sphere> for SphereState {
+    fn from(s: crate::Sphere) -> Self {
+        Self {
+            centre: s.centre().as_dvec3(),
+            velocity: s.velocity().as_dvec3(),
+            radius: f64::from(s.radius()),
+            mass: f64::from(s.mass()),
+            material: 0,
+        }
+    }
+}
+
+/// A simulation's sphere as the queries take it: each value rounded to the nearest f32, its
+/// centre taken as the query's centre at `t = 0` (the material is not kept). Every value a
+/// simulation takes (`2⁻¹⁰⁰` to `2¹⁰⁰`, [`MAX_MAGNITUDE`]) is a normal f32, so the sphere of a
+/// new [`Simulation`](super::Simulation) converts.
+///
+/// # Errors
+/// The [`ShapeError`](crate::ShapeError) of [`Sphere::new`](crate::Sphere::new) for a value
+/// no sphere may have, or one beyond f32's range (it rounds to infinite).
+///
+/// ```
+/// # use glam::DVec3;
+/// use spheresweep::Sphere;
+/// use spheresweep::sim::SphereState;
+/// let s = SphereState { centre: DVec3::new(0.1, 0.0, 0.0), velocity: DVec3::X, radius: 1.0, mass: 1.0, material: 3 };
+/// let q = Sphere::try_from(&s)?;
+/// assert_eq!((q.centre().x, q.radius()), (0.1f32, 1.0));
+/// let far = SphereState { centre: DVec3::new(1e300, 0.0, 0.0), ..s };
+/// assert!(Sphere::try_from(&far).is_err());
+/// # Ok::<(), spheresweep::ShapeError>(())
+/// ```
+impl TryFrom<&SphereState> for crate::Sphere {
+    type Error = crate::ShapeError;
+
+    fn try_from(s: &SphereState) -> Result<Self, Self::Error> {
+        crate::Sphere::new(
+            s.centre.as_vec3().to_array(),
+            s.velocity.as_vec3().to_array(),
+            s.radius as f32,
+            s.mass as f32,
+        )
+    }
+}
+
 /// What a collision does to the bodies that meet.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Response {
