@@ -1216,3 +1216,68 @@ fn a_running_simulation_reads_as_the_query_scene_of_its_state_now() {
     sim.advance_to(1.0 + 6.5).unwrap();
     assert_eq!(sim.stats().wall_collisions, 1);
 }
+
+/// Spheres that only report their contacts pass through each other and through the shapes, so
+/// a report-only world may start with spheres overlapping or through a shape: a contact is a
+/// pair (or a sphere and a shape) coming to touch, so the contacts they start in are not
+/// reported, and the later ones are, at the times a straight line gives. Sphere 2 comes from
+/// x = 10 at speed −1 through the overlapping pair at 0 and 0.5: it touches the second at
+/// t = 7.5, the first at 8. Sphere 3 starts through the plane x = 20 and goes on through it.
+/// Sphere 4 leaves its vessel at t = 2 and meets the plane at t = 19 (through the vessel's wall
+/// then, it was given the vessel and the plane in turn without end: a stall). Every sphere but 4
+/// starts outside the vessel: not a contact either.
+#[test]
+fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
+    let at = |x: f64, y: f64, vx: f64| SphereState {
+        centre: DVec3::new(x, y, 0.0),
+        ..bead(0.0, vx)
+    };
+    let world = World {
+        spheres: vec![
+            at(0.0, 0.0, 0.0),
+            at(0.5, 0.0, 0.0),
+            at(10.0, 0.0, -1.0),
+            at(19.5, -10.0, 1.0),
+            at(0.0, 30.0, 1.0),
+        ],
+        statics: Statics::new()
+            .with(Plane::new([20.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
+            .with(Container::new([0.0, 30.0, 0.0], 3.0).unwrap(), 0),
+        effects: Effects {
+            response: Response::ReportOnly,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut refused = world.clone();
+    refused.effects.response = Response::Elastic;
+    assert!(matches!(
+        Simulation::new(refused),
+        Err(SimError::Overlap { a: 0, b: 1, .. })
+    ));
+    let mut sim = Simulation::new(world).unwrap();
+    sim.advance_to(40.0).unwrap();
+    let mut met: Vec<(f64, u32, ShapeKind, u32)> = sim
+        .take_events()
+        .iter()
+        .map(|e| {
+            let (a, b) = (e.sphere, e.other.index);
+            // A pair in either order, lower index first.
+            match e.other.kind {
+                ShapeKind::Sphere => (e.time, a.min(b), e.other.kind, a.max(b)),
+                kind => (e.time, a, kind, b),
+            }
+        })
+        .collect();
+    met.sort_by(|x, y| x.0.total_cmp(&y.0));
+    assert_eq!(
+        met,
+        [
+            (2.0, 4, ShapeKind::Container, 0),
+            (7.5, 1, ShapeKind::Sphere, 2),
+            (8.0, 0, ShapeKind::Sphere, 2),
+            (19.0, 4, ShapeKind::Plane, 0),
+        ]
+    );
+}

@@ -23,7 +23,7 @@ use glam::DVec3;
 use super::cells::{Cell, Cells, NONE};
 use super::queue::Calendar;
 use super::response::{Motion, Outcome, Responder, Trajectory, Wall};
-use super::{EventRecord, SimError, Stats};
+use super::{EventRecord, SimError, Stats, walls};
 use crate::contact::Body;
 use crate::shape::ShapeKind;
 use crate::statics::Statics;
@@ -707,8 +707,12 @@ impl<
         (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
         if WALLS {
             let b = self.m.bodies[i as usize];
-            // Report-only: the shape last met is not met again (`ReportOnly::shape`).
-            let skip = self.responder.shape_touched(i);
+            // Report-only: the shape last met is not met again (`ReportOnly::shape`), nor one
+            // the sphere is through (`walls::Skip`).
+            let skip = walls::Skip {
+                last: self.responder.shape_touched(i),
+                through: R::REPORT_ONLY,
+            };
             let counts = &mut self.stats.kernels;
             let (mut t, wall) = if GRAVITY {
                 let g = self.m.g;

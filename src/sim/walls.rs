@@ -12,11 +12,41 @@ use crate::kernels::{SettleSphere, settle_static, sphere_settle_lanes};
 use crate::shape::ShapeKind;
 use crate::statics::{OfKind, StaticShape, Statics, Visitor};
 
-/// The earliest contact of one sphere with every shape but `skip`, kind by kind.
+/// The shapes a prediction passes over: the one a report-only sphere met last (its contact
+/// just reported; `NO_SHAPE` for none), and, with `through`, any it is through now — a
+/// report-only sphere passes through the shapes, and a straight line meets each in one
+/// interval, reported where it begins: through one, it is in the middle of a contact already
+/// reported or started in (without this, a sphere through a container's wall, meeting a plane,
+/// was given each again at once and stalled the clock).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Skip {
+    pub last: Body,
+    pub through: bool,
+}
+
+impl Skip {
+    /// Whether the contact `t` from now with shape `k` of kind `K` is passed over, the sphere
+    /// at `r` now: only one at once (`t = 0`) can be a contact the sphere is in.
+    #[inline]
+    fn passes<K: StaticShape>(&self, shape: &K, k: usize, t: f64, r: DVec3, radius: f64) -> bool {
+        Body::new(K::KIND, k as u32) == self.last
+            || self.through && t == 0.0 && shape.normal_gap(r, radius).1 < -THROUGH * radius
+    }
+}
+
+/// How far through a shape, in radii, a sphere is in the middle of its contact with it
+/// (`Skip::through`): past the rounding of a contact's start (the engine's contact positions
+/// round within about `10⁻¹⁵` of the scene's size), far below any depth a line reaches.
+const THROUGH: f64 = 1e-9;
+
+/// The earliest contact of one sphere with every shape but those `skip` passes over, kind by
+/// kind.
 struct Earliest<'a> {
     lanes: SettleSphere,
+    r: DVec3,
+    radius: f64,
     best: (f64, Body),
-    skip: Body,
+    skip: Skip,
     counts: &'a mut KernelCounts,
 }
 
@@ -25,7 +55,9 @@ impl<P> Visitor<P> for Earliest<'_> {
     fn visit<K: StaticShape>(&mut self, shapes: &OfKind<K, P>) {
         for (k, prepared) in shapes.settle().iter().enumerate() {
             let t = settle_static::<K>(&self.lanes, prepared);
-            if t < self.best.0 && Body::new(K::KIND, k as u32) != self.skip {
+            if t < self.best.0
+                && !(self.skip).passes(&shapes.shapes()[k], k, t, self.r, self.radius)
+            {
                 self.best = (t, Body::new(K::KIND, k as u32));
             }
         }
@@ -33,14 +65,15 @@ impl<P> Visitor<P> for Earliest<'_> {
     }
 }
 
-/// The earliest contact of one falling sphere with every shape but `skip`, kind by kind.
+/// The earliest contact of one falling sphere with every shape but those `skip` passes over,
+/// kind by kind.
 struct EarliestFalling<'a> {
     r: DVec3,
     v: DVec3,
     h: DVec3,
     radius: f64,
     best: (f64, Body),
-    skip: Body,
+    skip: Skip,
     counts: &'a mut KernelCounts,
 }
 
@@ -50,7 +83,7 @@ impl<P> Visitor<P> for EarliestFalling<'_> {
         for (k, shape) in shapes.shapes().iter().enumerate() {
             let p = shape.falling_polynomial(self.r, self.v, self.h, self.radius);
             let t = earliest_rise(&p);
-            if t < self.best.0 && Body::new(K::KIND, k as u32) != self.skip {
+            if t < self.best.0 && !(self.skip).passes(shape, k, t, self.r, self.radius) {
                 self.best = (t, Body::new(K::KIND, k as u32));
             }
         }
@@ -60,14 +93,14 @@ impl<P> Visitor<P> for EarliestFalling<'_> {
 
 impl Statics<u16> {
     /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape
-    /// but `skip` under the uniform acceleration `g`, each kind's polynomial answered by the
+    /// but those `skip` passes over under the uniform acceleration `g`, each kind's polynomial answered by the
     /// certified root isolation of `kernels::falling`; ties go to the first in tie-break
     /// order.
     pub(crate) fn earliest_falling(
         &self,
         (r, v, radius): (DVec3, DVec3, f64),
         g: DVec3,
-        skip: Body,
+        skip: Skip,
         counts: &mut KernelCounts,
     ) -> (f64, Body) {
         let mut e = EarliestFalling {
@@ -84,16 +117,18 @@ impl Statics<u16> {
     }
 
     /// Earliest contact of a sphere (centre `r` now, velocity `v`, radius) with any shape
-    /// but `skip`, in f64 (the `Stable` kernels on `f64x4`, one lane used); ties go to the
+    /// but those `skip` passes over, in f64 (the `Stable` kernels on `f64x4`, one lane used); ties go to the
     /// first in tie-break order.
     pub(crate) fn earliest(
         &self,
         (r, v, radius): (DVec3, DVec3, f64),
-        skip: Body,
+        skip: Skip,
         counts: &mut KernelCounts,
     ) -> (f64, Body) {
         let mut e = Earliest {
             lanes: sphere_settle_lanes(r, v, radius),
+            r,
+            radius,
             best: (f64::INFINITY, Body::new(ShapeKind::Plane, 0)),
             skip,
             counts,
