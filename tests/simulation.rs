@@ -1224,8 +1224,9 @@ fn a_running_simulation_reads_as_the_query_scene_of_its_state_now() {
 /// x = 10 at speed −1 through the overlapping pair at 0 and 0.5: it touches the second at
 /// t = 7.5, the first at 8. Sphere 3 starts through the plane x = 20 and goes on through it.
 /// Sphere 4 leaves its vessel at t = 2 and meets the plane at t = 19 (through the vessel's wall
-/// then, it was given the vessel and the plane in turn without end: a stall). Every sphere but 4
-/// starts outside the vessel: not a contact either.
+/// then, it was given the vessel and the plane in turn without end: a stall). Sphere 5 meets
+/// two planes at once, at their corner, at t = 7: each is reported once (they were given in
+/// turn without end too). Every sphere but 4 starts outside the vessel: not a contact either.
 #[test]
 fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
     let at = |x: f64, y: f64, vx: f64| SphereState {
@@ -1239,9 +1240,14 @@ fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
             at(10.0, 0.0, -1.0),
             at(19.5, -10.0, 1.0),
             at(0.0, 30.0, 1.0),
+            SphereState {
+                velocity: DVec3::new(1.0, -1.0, 0.0),
+                ..at(12.0, -22.0, 0.0)
+            },
         ],
         statics: Statics::new()
             .with(Plane::new([20.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
+            .with(Plane::new([0.0, -30.0, 0.0], [0.0, 1.0, 0.0]).unwrap(), 0)
             .with(Container::new([0.0, 30.0, 0.0], 3.0).unwrap(), 0),
         effects: Effects {
             response: Response::ReportOnly,
@@ -1275,6 +1281,8 @@ fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
         met,
         [
             (2.0, 4, ShapeKind::Container, 0),
+            (7.0, 5, ShapeKind::Plane, 0),
+            (7.0, 5, ShapeKind::Plane, 1),
             (7.5, 1, ShapeKind::Sphere, 2),
             (8.0, 0, ShapeKind::Sphere, 2),
             (19.0, 4, ShapeKind::Plane, 0),

@@ -13,7 +13,7 @@ use super::model::SimError;
 use super::{Simulation, World};
 
 /// Format version; bump when the layout changes.
-pub(crate) const VERSION: u32 = 6;
+pub(crate) const VERSION: u32 = 7;
 pub(crate) const MAGIC: &[u8; 4] = b"SSCK";
 
 /// Appends values to a byte buffer.

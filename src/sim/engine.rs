@@ -708,10 +708,12 @@ impl<
         if WALLS {
             let b = self.m.bodies[i as usize];
             // Report-only: the shape last met is not met again (`ReportOnly::shape`), nor one
-            // the sphere is through (`walls::Skip`).
+            // the sphere is through, nor one met at this instant before it (`walls::Skip`).
+            let (last, at) = self.responder.shape_touched(i);
             let skip = walls::Skip {
-                last: self.responder.shape_touched(i),
+                last,
                 through: R::REPORT_ONLY,
+                last_now: at == self.now,
             };
             let counts = &mut self.stats.kernels;
             let (mut t, wall) = if GRAVITY {

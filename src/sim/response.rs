@@ -169,10 +169,11 @@ pub(crate) trait Responder: Send + Sync + 'static {
     fn touching(&self, _i: u32, _j: u32) -> bool {
         false
     }
-    /// Report-only scenes: the static shape sphere `i`'s predictions skip (`NO_SHAPE`).
+    /// Report-only scenes: the static shape sphere `i`'s predictions skip (`NO_SHAPE`) and
+    /// when its contact was reported.
     #[inline(always)]
-    fn shape_touched(&self, _i: u32) -> Body {
-        NO_SHAPE
+    fn shape_touched(&self, _i: u32) -> (Body, f64) {
+        (NO_SHAPE, f64::NEG_INFINITY)
     }
     /// Every sphere was given a new velocity.
     fn new_velocities(&mut self) {}
@@ -261,6 +262,9 @@ pub(crate) struct ReportOnly {
     /// one interval, so the sphere's predictions skip it until its velocity is set again
     /// (reported again at once, it stalled the clock).
     pub shape: Vec<Body>,
+    /// When each sphere's last reported contact with a shape was: at that instant it may meet
+    /// several at once (a corner), reported in tie-break order (`walls::Skip`).
+    pub shape_at: Vec<f64>,
 }
 
 /// No static shape (`ReportOnly::shape`): a sphere is never a static shape.
@@ -275,6 +279,7 @@ impl ReportOnly {
         Self {
             partner: vec![super::cells::NONE; n],
             shape: vec![NO_SHAPE; n],
+            shape_at: vec![f64::NEG_INFINITY; n],
         }
     }
 }
@@ -302,6 +307,7 @@ impl Responder for ReportOnly {
             .map(|p| renumbered(p, new_of_old))
             .collect();
         self.shape = permuted(&self.shape, new_of_old);
+        self.shape_at = permuted(&self.shape_at, new_of_old);
     }
     fn save(&self, e: &mut Encoder) {
         for &p in &self.partner {
@@ -309,6 +315,9 @@ impl Responder for ReportOnly {
         }
         for b in &self.shape {
             b.save(e);
+        }
+        for &t in &self.shape_at {
+            e.f64(t);
         }
     }
     fn load(&mut self, d: &mut Decoder, n: usize) -> Result<(), SimError> {
@@ -322,14 +331,21 @@ impl Responder for ReportOnly {
         for b in &mut self.shape {
             b.load(d)?;
         }
+        for t in &mut self.shape_at {
+            *t = d.f64()?;
+            if t.is_nan() {
+                return Err(SimError::Checkpoint("a shape's contact time is NaN".into()));
+            }
+        }
         Ok(())
     }
     fn new_velocities(&mut self) {
         self.shape.fill(NO_SHAPE);
+        self.shape_at.fill(f64::NEG_INFINITY);
     }
     #[inline(always)]
-    fn shape_touched(&self, i: u32) -> Body {
-        self.shape[i as usize]
+    fn shape_touched(&self, i: u32) -> (Body, f64) {
+        (self.shape[i as usize], self.shape_at[i as usize])
     }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
         self.partner[i as usize] = j;
@@ -339,8 +355,9 @@ impl Responder for ReportOnly {
         out.restitution = f64::NAN;
         out.changed.extend([i, j]);
     }
-    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, _now: f64, out: &mut Outcome) {
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, now: f64, out: &mut Outcome) {
         self.shape[i as usize] = wall.body;
+        self.shape_at[i as usize] = now;
         out.approach = -m.bodies[i as usize].v.dot(wall.n);
         out.restitution = f64::NAN;
         out.changed.push(i);

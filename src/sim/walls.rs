@@ -13,24 +13,33 @@ use crate::shape::ShapeKind;
 use crate::statics::{OfKind, StaticShape, Statics, Visitor};
 
 /// The shapes a prediction passes over: the one a report-only sphere met last (its contact
-/// just reported; `NO_SHAPE` for none), and, with `through`, any it is through now — a
-/// report-only sphere passes through the shapes, and a straight line meets each in one
-/// interval, reported where it begins: through one, it is in the middle of a contact already
-/// reported or started in (without this, a sphere through a container's wall, meeting a plane,
-/// was given each again at once and stalled the clock).
+/// just reported; `NO_SHAPE` for none), and, with `through` (report-only), a contact at once
+/// (`t = 0`) with a shape the sphere is through now or, at the instant it met `last`
+/// (`last_now`), with one before `last` in tie-break order. A report-only sphere passes
+/// through the shapes, and a straight line meets each in one interval, reported where it
+/// begins: through one, the sphere is in a contact already reported (or started in); and the
+/// shapes it meets at one instant (a corner) are reported in tie-break order, the order in
+/// which the earliest is picked, so one before `last` was reported then. Without these a
+/// sphere that had left its vessel and met a plane, or met two planes at a corner, was given
+/// the two in turn without end (a stall).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Skip {
     pub last: Body,
     pub through: bool,
+    pub last_now: bool,
 }
 
 impl Skip {
     /// Whether the contact `t` from now with shape `k` of kind `K` is passed over, the sphere
-    /// at `r` now: only one at once (`t = 0`) can be a contact the sphere is in.
+    /// at `r` now.
     #[inline]
     fn passes<K: StaticShape>(&self, shape: &K, k: usize, t: f64, r: DVec3, radius: f64) -> bool {
-        Body::new(K::KIND, k as u32) == self.last
-            || self.through && t == 0.0 && shape.normal_gap(r, radius).1 < -THROUGH * radius
+        let body = Body::new(K::KIND, k as u32);
+        body == self.last
+            || self.through
+                && t == 0.0
+                && (self.last_now && body < self.last
+                    || shape.normal_gap(r, radius).1 < -THROUGH * radius)
     }
 }
 
