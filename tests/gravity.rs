@@ -218,7 +218,8 @@ fn a_ball_in_a_bowl_with_a_pillar_stays_inside_and_conserves_energy() {
     assert!(s.wall_collisions > 30 && s.pair_collisions > 0, "{s:?}");
 }
 
-/// Gravity is refused along a periodic axis and with sticky responses, naming the field.
+/// Gravity is refused along a periodic axis, with sticky responses, not finite or beyond
+/// 2¹⁰⁰, naming the field.
 #[test]
 fn gravity_where_it_cannot_be_is_refused() {
     let mut w = drop_world(1.0, Response::Elastic, 0.0);
@@ -235,6 +236,17 @@ fn gravity_where_it_cannot_be_is_refused() {
     w.effects.gravity = DVec3::new(0.0, f64::NAN, 0.0);
     let err = Simulation::new(w).unwrap_err().to_string();
     assert!(err.contains("gravity") && err.contains("finite"), "{err}");
+    // Beyond the range every other magnitude is held to: it stalled the clock, or ground on
+    // with no error, blamed on a dense pile.
+    let mut w = drop_world(1.0, Response::Elastic, 0.0);
+    w.effects.gravity = DVec3::new(0.0, 0.0, -1e31);
+    let err = Simulation::new(w.clone()).unwrap_err().to_string();
+    assert!(
+        err.contains("gravity") && err.contains("beyond 2¹⁰⁰"),
+        "{err}"
+    );
+    w.effects.gravity.z = -1e30;
+    assert!(Simulation::new(w).is_ok());
 }
 
 /// This file's own Carnahan–Starling `Z(φ)` and `d(φZ)/dφ`.

@@ -724,7 +724,7 @@ impl World {
 }
 
 impl World {
-    /// Gravity: finite, never along a periodic axis (a periodic box wraps every axis), and not
+    /// Gravity: finite, each component within [`MAX_MAGNITUDE`], never along a periodic axis (a periodic box wraps every axis), and not
     /// with sticky responses (a cluster stuck to a shape would have to be held against it).
     fn validate_gravity(&self) -> Result<(), SimError> {
         let fx = &self.effects;
@@ -734,6 +734,12 @@ impl World {
         }
         if g == DVec3::ZERO {
             return Ok(());
+        }
+        if !bounded3(g) {
+            return Err(SimError::Effects(format!(
+                "gravity {g}: a component beyond 2¹⁰⁰ (about 1.3e30), outside the range the \
+                 simulation computes in: choose units that bring it within"
+            )));
         }
         if let Boundary::Periodic { .. } = self.boundary {
             return Err(SimError::Effects(format!(

@@ -315,10 +315,11 @@ impl SceneFile {
         if let Some(k) = g.inside {
             let containers = world.statics.of::<Container>().shapes();
             let Some(c) = containers.get(k) else {
-                let problem = format!(
-                    "inside = {k}: there are {} containers (counted from 0)",
-                    containers.len()
-                );
+                let problem = match containers.len() {
+                    0 => format!("inside = {k}: the scene has no container"),
+                    1 => format!("inside = {k}: the scene has one container, 0"),
+                    n => format!("inside = {k}: there are {n} containers, 0 to {}", n - 1),
+                };
                 return Err(self.item_error(item, &block.field("inside"), problem));
             };
             let (centre, r) = (c.centre().as_dvec3(), f64::from(c.radius()));

@@ -239,7 +239,7 @@ fn fields_that_do_not_fit_their_item_are_named() {
         ),
         (
             FULL.replace("inside = 0", "inside = 4"),
-            "inside = 4: there are 1 containers",
+            "inside = 4: the scene has one container, 0",
         ),
         (
             FULL.replace("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, 0.0]"),
