@@ -234,7 +234,9 @@ pub(crate) fn hop_off(v: DVec3, n: DVec3, hop: f64) -> (DVec3, f64) {
 /// shorter chords — infinitely many collisions in finite time, then a chord within the
 /// rounding of the kernel's `C`, answered as no contact: the sphere left its vessel. At the
 /// floor it slides along the wall in chords of angle `2κ` at its own speed, as a frictionless
-/// sphere slides (docs/derivations/simulation.md, "Concave walls").
+/// sphere slides (docs/derivations/simulation.md, "Concave walls"). The flag says it slid so:
+/// a convex shape's floor is `κ = 0`, where a rounding below zero is turned to the tangent
+/// but is no slide along a floor angle.
 #[inline]
 pub(crate) fn leave_wall(v: DVec3, n: DVec3, kappa: f64) -> (DVec3, bool) {
     let w = v.dot(n);
@@ -242,14 +244,15 @@ pub(crate) fn leave_wall(v: DVec3, n: DVec3, kappa: f64) -> (DVec3, bool) {
     if w >= kappa * speed || w.is_nan() {
         return (v, false);
     }
+    let slid = kappa > 0.0;
     let tangential = v - n * w;
     let t = tangential.length();
     if t == 0.0 {
         // Straight into the wall (no response leaves a sphere so): straight back out.
-        return (n * speed, true);
+        return (n * speed, slid);
     }
     let along = speed * (1.0 - kappa * kappa).max(0.0).sqrt() / t;
-    (n * (kappa * speed) + tangential * along, true)
+    (n * (kappa * speed) + tangential * along, slid)
 }
 
 /// Report only.
@@ -886,5 +889,18 @@ mod tests {
             floored += usize::from(e.guarded);
         }
         assert!(floored > 10_000, "{floored} grazing or receding pairs");
+    }
+
+    /// A sphere left heading a rounding into a convex shape (floor `κ = 0`) is turned to the
+    /// tangent but not counted as sliding (the summary said spheres slid along a container in
+    /// a scene with none); at a concave wall's floor angle it is counted.
+    #[test]
+    fn only_a_concave_walls_floor_counts_as_sliding() {
+        let (n, v) = (DVec3::Z, DVec3::new(1.0, 0.0, -1e-17));
+        let (out, slid) = leave_wall(v, n, 0.0);
+        assert!(!slid && out.z == 0.0 && (out.length() - v.length()).abs() < 1e-15);
+        let (out, slid) = leave_wall(v, n, 1e-3);
+        assert!(slid && (out.z - 1e-3 * v.length()).abs() < 1e-18);
+        assert!(!leave_wall(DVec3::new(1.0, 0.0, 0.5), n, 1e-3).1);
     }
 }
