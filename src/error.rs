@@ -118,6 +118,22 @@ pub enum Error {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Num(pub f64);
 
+/// A vector as messages print it: `[x, y, z]`, each component a [`Num`].
+///
+/// ```
+/// # use spheresweep::error::Nums;
+/// assert_eq!(Nums([0.0, -9.81, 1e200]).to_string(), "[0, -9.81, 1e200]");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Nums(pub [f64; 3]);
+
+impl fmt::Display for Nums {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [x, y, z] = self.0.map(Num);
+        write!(f, "[{x}, {y}, {z}]")
+    }
+}
+
 impl fmt::Display for Num {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let a = self.0.abs();

@@ -724,26 +724,36 @@ impl World {
 }
 
 impl World {
-    /// Gravity: finite, each component within [`MAX_MAGNITUDE`], never along a periodic axis (a periodic box wraps every axis), and not
-    /// with sticky responses (a cluster stuck to a shape would have to be held against it).
+    /// Gravity: finite, no faster a fall across the scene than [`MAX_MAGNITUDE`], never along a
+    /// periodic axis (a periodic box wraps every axis), and not with sticky responses (a
+    /// cluster stuck to a shape would have to be held against it).
     fn validate_gravity(&self) -> Result<(), SimError> {
         let fx = &self.effects;
         let g = fx.gravity;
+        let shown = crate::error::Nums(g.to_array());
         if !finite3(g) {
-            return Err(SimError::Effects(format!("gravity {g} must be finite")));
+            return Err(SimError::Effects(format!("gravity {shown} must be finite")));
         }
         if g == DVec3::ZERO {
             return Ok(());
         }
-        if !bounded3(g) {
+        // A sphere falling across the scene, a distance `L` (its farthest point from the
+        // origin), reaches `√(2 g L)`: at most 2¹⁰⁰ as every speed, with `g L ≤ 2¹⁹⁹`. (Not
+        // `g` alone: in units of tiny lengths and tinier times, g is huge and the scene fine.)
+        let reach = (self.spheres.iter())
+            .map(|s| s.centre.abs().max_element() + s.radius)
+            .fold(MIN_MAGNITUDE, f64::max);
+        if g.abs().max_element() * reach > MAX_MAGNITUDE * MAX_MAGNITUDE / 2.0 {
             return Err(SimError::Effects(format!(
-                "gravity {g}: a component beyond 2¹⁰⁰ (about 1.3e30), outside the range the \
-                 simulation computes in: choose units that bring it within"
+                "gravity {shown}: a sphere falling across the scene ({} from the origin) would \
+                 reach speeds beyond 2¹⁰⁰ (about 1.3e30; √(2 g L)), outside the range the \
+                 simulation computes in: choose units that bring it within",
+                crate::error::Num(reach)
             )));
         }
         if let Boundary::Periodic { .. } = self.boundary {
             return Err(SimError::Effects(format!(
-                "gravity {g} with a periodic box: the box wraps every axis, so spheres would \
+                "gravity {shown} with a periodic box: the box wraps every axis, so spheres would \
                  fall for ever along g; use an open box with a floor (planes) instead"
             )));
         }
@@ -752,7 +762,7 @@ impl World {
             .any(|r| *r == Response::Sticky);
         if sticky {
             return Err(SimError::Effects(format!(
-                "gravity {g} with a sticky response: not supported (a cluster stuck to a \
+                "gravity {shown} with a sticky response: not supported (a cluster stuck to a \
                  shape would have to be held against gravity)"
             )));
         }

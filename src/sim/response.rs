@@ -9,7 +9,7 @@ use super::checkpoint::{Decoder, Encoder};
 use super::model::{Response, SimError};
 use super::persist::Persist;
 use crate::contact::Body;
-use crate::error::Num;
+use crate::error::Nums;
 use crate::shape::ShapeKind;
 
 /// One sphere's straight-line trajectory, f64: centre `r` at its own time `t`, velocity,
@@ -697,10 +697,8 @@ impl Responder for Materials {
                         s,
                         format!(
                             "a cluster moves as one: give it the velocity of its other members \
-                             ([{}, {}, {}])",
-                            Num(first.x),
-                            Num(first.y),
-                            Num(first.z)
+                             ({})",
+                            Nums(first.to_array())
                         ),
                     ));
                 }
