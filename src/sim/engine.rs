@@ -184,7 +184,7 @@ pub(crate) struct Engine<
     pub id_of: Vec<u32>,
     pub reorder_every: u64,
     since_reorder: u64,
-    width: f64,
+    pub(super) width: f64,
     /// Fault injection for the tests that show the invariant check fires: the concave-wall
     /// floor off and the old container policy (see `Simulation::break_walls_for_testing`).
     pub broken_walls: bool,
@@ -319,14 +319,16 @@ impl<
         e
     }
 
-    /// Sizes the calendar from the first predictions: buckets about two pending events wide,
-    /// the responder's time scale and the stall watchdog's least progress follow from it.
+    /// Sizes the calendar from the predictions just made (at the start, or for new
+    /// velocities): buckets about two pending events wide, the responder's time scale and the
+    /// stall watchdog's least progress follow from it.
     fn size_calendar(&mut self) {
         let n = self.m.bodies.len();
+        let now = self.now;
         let finite: Vec<f64> = self
             .best
             .iter()
-            .map(Best::time)
+            .map(|b| b.time() - now)
             .filter(|t| t.is_finite())
             .collect();
         let mean = if finite.is_empty() {
@@ -340,7 +342,7 @@ impl<
         } else {
             1.0
         };
-        self.queue = Calendar::new(width, n, n, 0.0);
+        self.queue = Calendar::new(width, n, n, now);
         self.width = width;
         self.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
         // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
@@ -911,6 +913,9 @@ impl<
         for k in 0..n as u32 {
             self.predict(k);
         }
+        // The time between events is the new velocities': a calendar sized for the old ones
+        // (for spheres at rest, for none) would hold them all in a few buckets.
+        self.size_calendar();
         self.reschedule();
         Ok(())
     }

@@ -53,6 +53,9 @@ pub(super) trait Run: Send {
     /// Test-only fault injection: sphere `k`'s velocity (engine order) made NaN.
     #[cfg(test)]
     fn poison(&mut self, k: usize);
+    /// Test-only: the calendar's bucket width.
+    #[cfg(test)]
+    fn calendar_width(&self) -> f64;
 }
 
 /// Per-response hooks the public type needs.
@@ -163,6 +166,10 @@ impl<R: Responder + Clusters, const P: bool, const W: bool, const G: bool, const
     #[cfg(test)]
     fn poison(&mut self, k: usize) {
         self.m.bodies[k].v.x = f64::NAN;
+    }
+    #[cfg(test)]
+    fn calendar_width(&self) -> f64 {
+        self.width
     }
     fn name(&self) -> String {
         format!(
