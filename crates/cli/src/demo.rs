@@ -327,7 +327,13 @@ fn advance(
 ) -> Result<Sampled, Box<dyn Error>> {
     let start = sim.spheres();
     let mut paths: Vec<Vec<DVec3>> = tracked.iter().map(|&i| vec![start[i].centre]).collect();
-    let bar = crate::progress::SimProgress::new(t_end, args.quiet, 1, true)?;
+    let bar = crate::progress::SimProgress::new(
+        t_end,
+        args.quiet,
+        1,
+        true,
+        std::time::Duration::from_secs(60),
+    )?;
     let started = Instant::now();
     let mut worst = (0.0f64, 0.0f64);
     for k in 1..=SAMPLES {

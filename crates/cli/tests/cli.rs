@@ -752,3 +752,39 @@ fn the_memory_probe_prints_held_and_peak_bytes_per_sphere() {
     assert!(held > 0.0 && held < 10_000.0, "{stdout:?}");
     assert!(peak >= held, "{stdout:?}");
 }
+
+/// Where stderr is not a terminal (here, a pipe) a run prints plain progress lines, at most one
+/// every `--progress-every` seconds (a batch job saw nothing for minutes); `--quiet` prints
+/// none, and a bad interval is refused naming the flag.
+#[test]
+fn a_run_without_a_terminal_prints_progress_lines() {
+    let dir = scratch("run-progress-lines");
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "run".to_string(),
+            shipped("hard_sphere_gas"),
+            "--out".into(),
+            dir.to_str().unwrap().into(),
+            "--t-end".into(),
+            "3".into(),
+            "--snapshots".into(),
+            "0".into(),
+            "--force".into(),
+        ];
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let call = |a: Vec<String>| run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let out = call(args(&["--progress-every", "1e-6"]));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("progress: t = ")).collect();
+    assert!(lines.len() >= 2, "{err}");
+    assert!(lines[0].contains("collisions") && lines[0].contains("% of t = 3"), "{err}");
+    let out = call(args(&["--progress-every", "1e-6", "--quiet"]));
+    assert!(!text(&out.stderr).contains("progress:"), "{}", text(&out.stderr));
+    let out = call(args(&["--progress-every", "0"]));
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("--progress-every 0 must be greater than 0"));
+    std::fs::remove_dir_all(&dir).ok();
+}

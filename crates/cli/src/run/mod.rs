@@ -79,7 +79,8 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
             Run::start(sim, settings, fingerprint, place)?
         }
     };
-    if let Err(e) = run.advance(args.quiet) {
+    let every = std::time::Duration::from_secs_f64(args.progress_every);
+    if let Err(e) = run.advance(args.quiet, every) {
         if e.is::<simulate::StoppedShort>() {
             summary::finish(run, &about)?;
             return Err(e);

@@ -33,9 +33,14 @@ pub struct Args {
     /// Default: the scene's `[run] snapshot_every`.
     #[arg(long, value_name = "EVERY", allow_negative_numbers = true, value_parser = number)]
     pub snapshots: Option<f64>,
-    /// No progress bar (there is none either when stderr is not a terminal).
+    /// No progress bar, nor progress lines.
     #[arg(long)]
     pub quiet: bool,
+    /// Where stderr is not a terminal (a log file, a batch job), a progress line (simulated
+    /// time, collisions, seconds so far) at most every SECONDS, in place of the bar; finite and
+    /// greater than 0.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = number)]
+    pub progress_every: f64,
     /// Write `checkpoint.bin` in the output directory every T of simulated time (at the first
     /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
     /// from the last one, and Ctrl-C or SIGTERM writes a last one before stopping. T is in the
@@ -124,6 +129,14 @@ pub fn check_flags(args: &Args) -> Result<(), String> {
         return Err(format!(
             "--checkpoint-every {} must be finite and greater than 0",
             num(c)
+        ));
+    }
+    let p = args.progress_every;
+    // At most a year (`Duration` takes any such number of seconds).
+    if !(p > 0.0 && p <= 3.2e7) {
+        return Err(format!(
+            "--progress-every {} must be greater than 0 and at most a year (3.2e7 seconds)",
+            num(p)
         ));
     }
     Ok(())

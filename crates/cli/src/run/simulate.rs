@@ -5,7 +5,7 @@
 use std::error::Error;
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use spheresweep::io::xyz;
@@ -155,9 +155,9 @@ impl Run {
 
     /// Advances through every stop left; an interruption returns
     /// [`crate::interrupt::Interrupted`] after a last checkpoint (when checkpoints are on).
-    pub fn advance(&mut self, quiet: bool) -> Result<(), Box<dyn Error>> {
+    pub fn advance(&mut self, quiet: bool, every: Duration) -> Result<(), Box<dyn Error>> {
         let t_end = self.settings.t_end;
-        let bar = crate::progress::SimProgress::new(t_end, quiet, 4, false)?;
+        let bar = crate::progress::SimProgress::new(t_end, quiet, 4, false, every)?;
         let mut next_checkpoint = self.settings.checkpoint_every.map(|c| self.sim.time() + c);
         let first = self.counters.next_stop as usize;
         for (k, (stop, snapshot)) in self.settings.stops().into_iter().enumerate().skip(first) {
