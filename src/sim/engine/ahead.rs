@@ -73,13 +73,11 @@ impl<
         }
     }
 
-    /// Sphere `i`'s calendar slot and version, read when its bucket moves into the heap.
+    /// Sphere `i`'s calendar slot, read when its bucket becomes the current one.
     #[inline(always)]
     fn fetch_calendar_lines(&self, i: u32) {
-        if let Some(lines) = self.queue.lines_of(i) {
-            for line in lines {
-                prefetch_bytes(line.cast(), 1);
-            }
+        if let Some(line) = self.queue.lines_of(i) {
+            prefetch_bytes(line.cast(), 1);
         }
     }
 
