@@ -1289,3 +1289,42 @@ fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
         ]
     );
 }
+
+/// Report-only spheres fired at a corner of two planes, each along a line that meets both at
+/// one time in exact arithmetic (and, rounded, at two times a rounding apart, in either
+/// order): every sphere reports each plane once (given in turn without end, they stalled the
+/// clock; a rule that took a shape before the last met in tie-break order as already reported
+/// could drop one).
+#[test]
+fn report_only_spheres_at_a_corner_report_each_plane_once() {
+    let spheres: Vec<SphereState> = (0..60)
+        .map(|k| {
+            let (d, speed) = (5.0 + 0.37 * f64::from(k), 1.0 + 0.013 * f64::from(k));
+            SphereState {
+                centre: DVec3::new(19.0 - d, -29.0 + d, 3.0 * f64::from(k)),
+                velocity: DVec3::new(speed, -speed, 0.0),
+                ..bead(0.0, 0.0)
+            }
+        })
+        .collect();
+    let world = World {
+        spheres,
+        statics: Statics::new()
+            .with(Plane::new([20.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
+            .with(Plane::new([0.0, -30.0, 0.0], [0.0, 1.0, 0.0]).unwrap(), 0),
+        effects: Effects {
+            response: Response::ReportOnly,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    let mut sim = Simulation::new(world).unwrap();
+    sim.advance_to(100.0).unwrap();
+    let mut met = vec![[0u32; 2]; 60];
+    for e in sim.take_events() {
+        assert_eq!(e.other.kind, ShapeKind::Plane, "{e:?}");
+        met[e.sphere as usize][e.other.index as usize] += 1;
+    }
+    assert!(met.iter().all(|m| *m == [1, 1]), "{met:?}");
+}

@@ -709,13 +709,11 @@ impl<
         (best.pairs, best.complete, best.beyond) = (pairs, complete, beyond);
         if WALLS {
             let b = self.m.bodies[i as usize];
-            // Report-only: the shape last met is not met again (`ReportOnly::shape`), nor one
-            // the sphere is through, nor one met at this instant before it (`walls::Skip`).
-            let (last, at) = self.responder.shape_touched(i);
+            // Report-only: the shapes last met are not met again (`ReportOnly::shape`), nor
+            // one the sphere is through (`walls::Skip`).
             let skip = walls::Skip {
-                last,
+                met: self.responder.shape_touched(i),
                 through: R::REPORT_ONLY,
-                last_now: at == self.now,
             };
             let counts = &mut self.stats.kernels;
             let (mut t, wall) = if GRAVITY {

@@ -169,11 +169,10 @@ pub(crate) trait Responder: Send + Sync + 'static {
     fn touching(&self, _i: u32, _j: u32) -> bool {
         false
     }
-    /// Report-only scenes: the static shape sphere `i`'s predictions skip (`NO_SHAPE`) and
-    /// when its contact was reported.
+    /// Report-only scenes: the static shapes sphere `i`'s predictions skip (`NO_SHAPE`).
     #[inline(always)]
-    fn shape_touched(&self, _i: u32) -> (Body, f64) {
-        (NO_SHAPE, f64::NEG_INFINITY)
+    fn shape_touched(&self, _i: u32) -> [Body; 3] {
+        [NO_SHAPE; 3]
     }
     /// Every sphere was given a new velocity.
     fn new_velocities(&mut self) {}
@@ -260,14 +259,13 @@ pub(crate) fn leave_wall(v: DVec3, n: DVec3, kappa: f64) -> (DVec3, bool) {
 pub(crate) struct ReportOnly {
     /// Each sphere's partner at its last reported contact.
     pub partner: Vec<u32>,
-    /// Each sphere's static shape at its last reported contact with one (`NO_SHAPE` for
-    /// none): a straight line meets a plane, an infinite cylinder or a container's wall in
-    /// one interval, so the sphere's predictions skip it until its velocity is set again
-    /// (reported again at once, it stalled the clock).
-    pub shape: Vec<Body>,
-    /// When each sphere's last reported contact with a shape was: at that instant it may meet
-    /// several at once (a corner), reported in tie-break order (`walls::Skip`).
-    pub shape_at: Vec<f64>,
+    /// Each sphere's static shapes of its last three reported contacts with one, the latest
+    /// first (`NO_SHAPE` for none): a straight line meets a plane, an infinite cylinder or a
+    /// container's wall in one interval, so the sphere's predictions skip them until its
+    /// velocity is set again (reported again at once, one stalled the clock; at a corner,
+    /// where a sphere meets two or three within a rounding of one time, they were given in
+    /// turn without end). Older ones are behind it (`walls::Skip`).
+    pub shape: Vec<[Body; 3]>,
 }
 
 /// No static shape (`ReportOnly::shape`): a sphere is never a static shape.
@@ -281,8 +279,7 @@ impl ReportOnly {
     pub fn new(n: usize) -> Self {
         Self {
             partner: vec![super::cells::NONE; n],
-            shape: vec![NO_SHAPE; n],
-            shape_at: vec![f64::NEG_INFINITY; n],
+            shape: vec![[NO_SHAPE; 3]; n],
         }
     }
 }
@@ -310,17 +307,13 @@ impl Responder for ReportOnly {
             .map(|p| renumbered(p, new_of_old))
             .collect();
         self.shape = permuted(&self.shape, new_of_old);
-        self.shape_at = permuted(&self.shape_at, new_of_old);
     }
     fn save(&self, e: &mut Encoder) {
         for &p in &self.partner {
             e.u32(p);
         }
-        for b in &self.shape {
+        for b in self.shape.iter().flatten() {
             b.save(e);
-        }
-        for &t in &self.shape_at {
-            e.f64(t);
         }
     }
     fn load(&mut self, d: &mut Decoder, n: usize) -> Result<(), SimError> {
@@ -331,24 +324,17 @@ impl Responder for ReportOnly {
             }
         }
         // The engine checks that a shape named exists (`Engine::load`).
-        for b in &mut self.shape {
+        for b in self.shape.iter_mut().flatten() {
             b.load(d)?;
-        }
-        for t in &mut self.shape_at {
-            *t = d.f64()?;
-            if t.is_nan() {
-                return Err(SimError::Checkpoint("a shape's contact time is NaN".into()));
-            }
         }
         Ok(())
     }
     fn new_velocities(&mut self) {
-        self.shape.fill(NO_SHAPE);
-        self.shape_at.fill(f64::NEG_INFINITY);
+        self.shape.fill([NO_SHAPE; 3]);
     }
     #[inline(always)]
-    fn shape_touched(&self, i: u32) -> (Body, f64) {
-        (self.shape[i as usize], self.shape_at[i as usize])
+    fn shape_touched(&self, i: u32) -> [Body; 3] {
+        self.shape[i as usize]
     }
     fn pair(&mut self, m: &mut Motion, i: u32, j: u32, dr: DVec3, _now: f64, out: &mut Outcome) {
         self.partner[i as usize] = j;
@@ -358,9 +344,9 @@ impl Responder for ReportOnly {
         out.restitution = f64::NAN;
         out.changed.extend([i, j]);
     }
-    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, now: f64, out: &mut Outcome) {
-        self.shape[i as usize] = wall.body;
-        self.shape_at[i as usize] = now;
+    fn wall(&mut self, m: &mut Motion, i: u32, wall: Wall, _now: f64, out: &mut Outcome) {
+        let met = &mut self.shape[i as usize];
+        *met = [wall.body, met[0], met[1]];
         out.approach = -m.bodies[i as usize].v.dot(wall.n);
         out.restitution = f64::NAN;
         out.changed.push(i);

@@ -12,21 +12,17 @@ use crate::kernels::{SettleSphere, settle_static, sphere_settle_lanes};
 use crate::shape::ShapeKind;
 use crate::statics::{OfKind, StaticShape, Statics, Visitor};
 
-/// The shapes a prediction passes over: the one a report-only sphere met last (its contact
-/// just reported; `NO_SHAPE` for none), and, with `through` (report-only), a contact at once
-/// (`t = 0`) with a shape the sphere is through now or, at the instant it met `last`
-/// (`last_now`), with one before `last` in tie-break order. A report-only sphere passes
-/// through the shapes, and a straight line meets each in one interval, reported where it
-/// begins: through one, the sphere is in a contact already reported (or started in); and the
-/// shapes it meets at one instant (a corner) are reported in tie-break order, the order in
-/// which the earliest is picked, so one before `last` was reported then. Without these a
-/// sphere that had left its vessel and met a plane, or met two planes at a corner, was given
-/// the two in turn without end (a stall).
+/// The shapes a prediction passes over: the last three a report-only sphere met (contacts
+/// already reported, `ReportOnly::shape`; `NO_SHAPE` for none), and, with `through`
+/// (report-only), a contact at once (`t = 0`) with a shape the sphere is through now. A
+/// report-only sphere passes through the shapes, and a straight line meets each in one
+/// interval, reported where it begins: through one, the sphere is in a contact already
+/// reported (or started in). Without these a sphere that had left its vessel and met a plane,
+/// or met two planes at a corner, was given the two in turn without end (a stall).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Skip {
-    pub last: Body,
+    pub met: [Body; 3],
     pub through: bool,
-    pub last_now: bool,
 }
 
 impl Skip {
@@ -34,12 +30,8 @@ impl Skip {
     /// at `r` now.
     #[inline]
     fn passes<K: StaticShape>(&self, shape: &K, k: usize, t: f64, r: DVec3, radius: f64) -> bool {
-        let body = Body::new(K::KIND, k as u32);
-        body == self.last
-            || self.through
-                && t == 0.0
-                && (self.last_now && body < self.last
-                    || shape.normal_gap(r, radius).1 < -THROUGH * radius)
+        self.met.contains(&Body::new(K::KIND, k as u32))
+            || self.through && t == 0.0 && shape.normal_gap(r, radius).1 < -THROUGH * radius
     }
 }
 

@@ -122,9 +122,10 @@ impl<
         self.responder.load(d, self.m.bodies.len())?;
         // Report-only: the shape each sphere last met exists.
         for k in 0..self.best.len() {
-            let (shape, _) = self.responder.shape_touched(k as u32);
-            if shape != NO_SHAPE {
-                self.check_wall(self.id_of[k], shape, 0.0)?;
+            for shape in self.responder.shape_touched(k as u32) {
+                if shape != NO_SHAPE {
+                    self.check_wall(self.id_of[k], shape, 0.0)?;
+                }
             }
         }
         if self.dispersal.parked {
