@@ -247,7 +247,14 @@ fn gravity_where_it_cannot_be_is_refused() {
         "{err}"
     );
     w.effects.gravity.z = -1e59;
-    assert!(Simulation::new(w).is_ok());
+    assert!(Simulation::new(w.clone()).is_ok());
+    // A fall to a floor far away counts too: 10²⁰ below, √(2·1e59·1e20) is past 2¹⁰⁰.
+    w.statics = Statics::new().with(Plane::new([0.0, 0.0, -1e20], [0.0, 0.0, 1.0]).unwrap(), 0);
+    let err = Simulation::new(w).unwrap_err().to_string();
+    assert!(
+        err.contains("gravity") && err.contains("beyond 2¹⁰⁰"),
+        "{err}"
+    );
 }
 
 /// This file's own Carnahan–Starling `Z(φ)` and `d(φZ)/dφ`.

@@ -186,6 +186,7 @@ fn outside_float32(array: &Bound<'_, PyUntypedArray>, name: &str, sizes: bool) -
         && dtype.itemsize() == 8
         && dtype.is_native_byteorder() == Some(false)
     {
+        converting::<f64>(array, name, "float64 in this byte order")?;
         native = array
             .call_method1("astype", (numpy::dtype::<f64>(array.py()),))?
             .cast_into::<PyUntypedArray>()?;

@@ -737,15 +737,23 @@ impl World {
         if g == DVec3::ZERO {
             return Ok(());
         }
-        // A sphere falling across the scene, a distance `L` (its farthest point from the
-        // origin), reaches `√(2 g L)`: at most 2¹⁰⁰ as every speed, with `g L ≤ 2¹⁹⁹`. (Not
-        // `g` alone: in units of tiny lengths and tinier times, g is huge and the scene fine.)
-        let reach = (self.spheres.iter())
-            .map(|s| s.centre.abs().max_element() + s.radius)
+        // A sphere falling across the scene, a distance `L` (at most its farthest sphere's
+        // distance from the origin and the farthest shape's), reaches `√(2 g L)`: at most
+        // 2¹⁰⁰ as every speed, with `g L ≤ 2¹⁹⁹`. (Not `g` alone: in units of tiny lengths
+        // and tinier times, g is huge and the scene fine.)
+        let sphere = (self.spheres.iter())
+            .map(|s| s.centre.length() + s.radius)
             .fold(MIN_MAGNITUDE, f64::max);
-        if g.abs().max_element() * reach > MAX_MAGNITUDE * MAX_MAGNITUDE / 2.0 {
+        let shape = (self.statics.iter())
+            .map(|(_, s, _)| {
+                let wall = s.normal_gap(DVec3::ZERO, 0.0).1.abs();
+                wall + s.interior().map_or(0.0, |(_, radius)| radius)
+            })
+            .fold(0.0, f64::max);
+        let reach = sphere + shape;
+        if g.length() * reach > MAX_MAGNITUDE * MAX_MAGNITUDE / 2.0 {
             return Err(SimError::Effects(format!(
-                "gravity {shown}: a sphere falling across the scene ({} from the origin) would \
+                "gravity {shown}: a sphere falling across the scene (up to {}) would \
                  reach speeds beyond 2¹⁰⁰ (about 1.3e30; √(2 g L)), outside the range the \
                  simulation computes in: choose units that bring it within",
                 crate::error::Num(reach)

@@ -778,11 +778,21 @@ fn a_run_without_a_terminal_prints_progress_lines() {
     let out = call(args(&["--progress-every", "1e-6"]));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let err = text(&out.stderr);
-    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("progress: t = ")).collect();
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("progress: t = "))
+        .collect();
     assert!(lines.len() >= 2, "{err}");
-    assert!(lines[0].contains("collisions") && lines[0].contains("% of t = 3"), "{err}");
+    assert!(
+        lines[0].contains("collisions") && lines[0].contains("% of t = 3"),
+        "{err}"
+    );
     let out = call(args(&["--progress-every", "1e-6", "--quiet"]));
-    assert!(!text(&out.stderr).contains("progress:"), "{}", text(&out.stderr));
+    assert!(
+        !text(&out.stderr).contains("progress:"),
+        "{}",
+        text(&out.stderr)
+    );
     let out = call(args(&["--progress-every", "0"]));
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("--progress-every 0 must be greater than 0"));

@@ -140,20 +140,16 @@ impl<
         }
         let mut first = None;
         let mut reachable = f64::INFINITY;
-        // A sphere at rest stays where it is.
-        for (k, b) in self
-            .m
-            .bodies
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.v != DVec3::ZERO)
-        {
+        for (k, b) in self.m.bodies.iter().enumerate() {
             // A sphere with no number for a state has not flown: the engine failed.
             if !(b.r.is_finite() && b.v.is_finite()) {
                 return Err(SimError::NotFinite {
                     time: self.now,
                     sphere: self.id_of[k] as usize,
                 });
+            }
+            if b.v == DVec3::ZERO {
+                continue; // at rest, it stays where it is
             }
             let reach = self.reach[k];
             let r = b.on_line(t);

@@ -39,7 +39,13 @@ pub struct Args {
     /// Where stderr is not a terminal (a log file, a batch job), a progress line (simulated
     /// time, collisions, seconds so far) at most every SECONDS, in place of the bar; finite and
     /// greater than 0.
-    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = number)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 60.0,
+        allow_negative_numbers = true,
+        value_parser = number
+    )]
     pub progress_every: f64,
     /// Write `checkpoint.bin` in the output directory every T of simulated time (at the first
     /// snapshot or progress step past each T), atomically: a run killed at any moment resumes
