@@ -160,7 +160,7 @@ pub struct Effects {
     ///
     /// It also sets what rest costs under gravity: a sphere resting on a wall hops off it
     /// about every `tc` (a settled pile of `N` makes a few `N/tc` events a unit of time);
-    /// without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the scene's size and `γ` the gravity
+    /// without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the sphere's distance from the origin plus its radius, `γ` the gravity
     /// across the wall — thousands of hops a unit of time for a sphere resting 5 from the
     /// origin under `g = 1` (docs/derivations/gravity.md, "Resting contact").
     ///
