@@ -320,8 +320,10 @@ impl<
     }
 
     /// Sizes the calendar from the predictions just made (at the start, or for new
-    /// velocities): buckets about two pending events wide, the responder's time scale and the
-    /// stall watchdog's least progress follow from it.
+    /// velocities): buckets about two pending events wide (over the spheres with an event: a
+    /// packing at rest with one sphere moving would otherwise step through half the buckets
+    /// between two of its events); the responder's time scale and the stall watchdog's least
+    /// progress follow from the mean time to an event over every sphere.
     fn size_calendar(&mut self) {
         let n = self.m.bodies.len();
         let now = self.now;
@@ -336,17 +338,22 @@ impl<
         } else {
             finite.iter().sum::<f64>() / finite.len() as f64
         };
-        let width = (2.0 * mean / n.max(1) as f64).max(f64::MIN_POSITIVE * 1e10);
-        let width = if width.is_finite() && width > 0.0 {
-            width
-        } else {
-            1.0
+        let over = |count: usize| {
+            let width = (2.0 * mean / count.max(1) as f64).max(f64::MIN_POSITIVE * 1e10);
+            if width.is_finite() && width > 0.0 {
+                width
+            } else {
+                1.0
+            }
         };
+        let (width, per_sphere) = (over(finite.len()), over(n));
         self.queue = Calendar::new(width, n, n, now);
         self.width = width;
-        self.responder.set_time_scale(width * n.max(1) as f64 / 2.0);
-        // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events.
-        self.min_progress = width * n as f64 / (1u64 << 30) as f64;
+        self.responder
+            .set_time_scale(per_sphere * n.max(1) as f64 / 2.0);
+        // Progress the stall watchdog asks for: 2⁻³⁰ of a sphere's mean time between events
+        // (the time scale is 2²⁹ times it: `Engine::load` takes it from there).
+        self.min_progress = per_sphere * n as f64 / (1u64 << 30) as f64;
     }
 
     /// Advances every event up to and including time `t_end`; stops early (returning `false`)

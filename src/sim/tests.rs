@@ -669,3 +669,37 @@ fn a_gas_given_its_velocities_after_the_start_is_sized_for_them() {
     assert_eq!(a.stats().pair_collisions, b.stats().pair_collisions);
     assert_eq!(a.spheres(), b.spheres());
 }
+
+/// One sphere of a gas at rest set moving: the calendar's buckets are sized over the spheres
+/// with an event (a few), not over all 2000 (each of its events stepped through about 1000
+/// empty buckets), and the responder's time scale stays the mean over every sphere, as a
+/// resumed run takes it back (`Engine::load`: from the watchdog's least progress).
+#[test]
+fn one_sphere_set_moving_in_a_gas_at_rest_gets_buckets_its_own_size() {
+    let mut w = World::default();
+    generate::periodic_gas(&mut w, 2000, 0.3, 0.5, 1.0, 4).unwrap();
+    let mut v: Vec<DVec3> = w.spheres.iter().map(|s| s.velocity).collect();
+    for s in &mut w.spheres {
+        s.velocity = DVec3::ZERO;
+    }
+    v.iter_mut().skip(1).for_each(|x| *x = DVec3::ZERO);
+    let mut sim = Simulation::new(w.clone()).unwrap();
+    sim.set_velocities(&v).unwrap();
+    let width = sim.engine.calendar_width();
+    let before = sim.stats().pair_collisions;
+    let t0 = sim.time();
+    // Its first collision comes within a few widths, not a thousand.
+    let mut t = t0;
+    while sim.stats().pair_collisions == before {
+        t += width;
+        sim.advance_to(t).unwrap();
+    }
+    assert!(t - t0 <= 64.0 * width, "{} widths", (t - t0) / width);
+    // A checkpoint resumes to the same events.
+    let bytes = sim.checkpoint();
+    let mut resumed = Simulation::restore(w, &bytes).unwrap();
+    sim.advance_to(t + 1.0).unwrap();
+    resumed.advance_to(t + 1.0).unwrap();
+    assert_eq!(sim.spheres(), resumed.spheres());
+    assert!(sim.stats().pair_collisions > before + 1);
+}

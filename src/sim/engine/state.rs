@@ -113,10 +113,11 @@ impl<
         for k in 0..self.best.len() {
             self.check_sphere(k)?;
         }
-        if !(self.width.is_finite() && self.width > 0.0 && self.now.is_finite()) {
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !(positive(self.width) && positive(self.min_progress) && self.now.is_finite()) {
             return Err(bad(format!(
-                "time {} or calendar width {} invalid",
-                self.now, self.width
+                "time {}, calendar width {} or least progress {} invalid",
+                self.now, self.width, self.min_progress
             )));
         }
         self.responder.load(d, self.m.bodies.len())?;
@@ -287,8 +288,9 @@ impl<
             self.cells.insert(k as u32, c);
         }
         self.build_lists();
+        // `size_calendar`'s time scale, 2²⁹ times the watchdog's least progress (exactly).
         self.responder
-            .set_time_scale(self.width * n.max(1) as f64 / 2.0);
+            .set_time_scale(self.min_progress * (1u64 << 29) as f64);
         self.reschedule();
     }
 }
