@@ -347,7 +347,7 @@ impl<
             }
         };
         let (width, per_sphere) = (over(finite.len()), over(n));
-        self.queue = Calendar::new(width, n, n, now);
+        // The calendar itself is built by `reschedule`, which every caller runs next.
         self.width = width;
         self.responder
             .set_time_scale(per_sphere * n.max(1) as f64 / 2.0);
