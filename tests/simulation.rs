@@ -44,6 +44,20 @@ fn bead(x: f64, vx: f64) -> SphereState {
     }
 }
 
+/// A world whose spheres only report their contacts, with their events recorded.
+fn report_only(spheres: Vec<SphereState>, statics: Statics<u16>) -> World {
+    World {
+        spheres,
+        statics,
+        effects: Effects {
+            response: Response::ReportOnly,
+            record_events: true,
+            ..Effects::default()
+        },
+        ..World::default()
+    }
+}
+
 fn box_size(w: &World) -> Option<DVec3> {
     match w.boundary {
         Boundary::Periodic { size } => Some(size),
@@ -673,15 +687,7 @@ fn report_only_first_contacts_match_the_scene_query() {
         &scene,
         spheresweep::QueryOptions::new(t_max as f32, spheresweep::Accuracy::Stable).unwrap(),
     );
-    let w = World {
-        spheres,
-        effects: Effects {
-            response: Response::ReportOnly,
-            record_events: true,
-            ..Effects::default()
-        },
-        ..World::default()
-    };
+    let w = report_only(spheres, Statics::new());
     let mut sim = Simulation::new(w).unwrap();
     assert!(sim.engine_name().starts_with("report only"));
     sim.advance_to(t_max).unwrap();
@@ -1233,8 +1239,8 @@ fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
         centre: DVec3::new(x, y, 0.0),
         ..bead(0.0, vx)
     };
-    let world = World {
-        spheres: vec![
+    let world = report_only(
+        vec![
             at(0.0, 0.0, 0.0),
             at(0.5, 0.0, 0.0),
             at(10.0, 0.0, -1.0),
@@ -1245,17 +1251,11 @@ fn a_report_only_world_may_start_overlapping_and_reports_the_contacts_after() {
                 ..at(12.0, -22.0, 0.0)
             },
         ],
-        statics: Statics::new()
+        Statics::new()
             .with(Plane::new([20.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
             .with(Plane::new([0.0, -30.0, 0.0], [0.0, 1.0, 0.0]).unwrap(), 0)
             .with(Container::new([0.0, 30.0, 0.0], 3.0).unwrap(), 0),
-        effects: Effects {
-            response: Response::ReportOnly,
-            record_events: true,
-            ..Effects::default()
-        },
-        ..World::default()
-    };
+    );
     let mut refused = world.clone();
     refused.effects.response = Response::Elastic;
     assert!(matches!(
@@ -1307,18 +1307,12 @@ fn report_only_spheres_at_a_corner_report_each_plane_once() {
             }
         })
         .collect();
-    let world = World {
+    let world = report_only(
         spheres,
-        statics: Statics::new()
+        Statics::new()
             .with(Plane::new([20.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap(), 0)
             .with(Plane::new([0.0, -30.0, 0.0], [0.0, 1.0, 0.0]).unwrap(), 0),
-        effects: Effects {
-            response: Response::ReportOnly,
-            record_events: true,
-            ..Effects::default()
-        },
-        ..World::default()
-    };
+    );
     let mut sim = Simulation::new(world).unwrap();
     sim.advance_to(100.0).unwrap();
     let mut met = vec![[0u32; 2]; 60];
