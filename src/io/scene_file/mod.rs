@@ -107,7 +107,7 @@ fn parse<T: serde::de::DeserializeOwned>(
 ) -> Result<(T, Origin), SceneFileError> {
     let parsed = match format {
         Format::Toml => toml::from_str(text).map_err(|e| e.to_string()),
-        Format::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
+        Format::Json => serde_json::from_str(text).map_err(|e| json_message(text, &e)),
     };
     let tables = parsed.map_err(|message| SceneFileError::Syntax {
         file: file.clone(),
@@ -115,6 +115,25 @@ fn parse<T: serde::de::DeserializeOwned>(
     })?;
     let toml = (format == Format::Toml).then(|| text.into());
     Ok((tables, Origin { file, toml }))
+}
+
+/// serde_json's message, and where it stopped at a `NaN` or an infinity (which JSON does not
+/// have, and JavaScript's `JSON.stringify` writes as `null`), what the scene asks instead.
+fn json_message(text: &str, e: &serde_json::Error) -> String {
+    let at = text
+        .lines()
+        .nth(e.line().saturating_sub(1))
+        .and_then(|line| line.get(e.column().saturating_sub(1)..))
+        .unwrap_or("");
+    let word = at.trim_start_matches(['-', '+']);
+    let nonfinite = ["NaN", "nan", "Infinity", "infinity", "inf"]
+        .iter()
+        .any(|w| word.starts_with(w));
+    if e.is_syntax() && nonfinite {
+        format!("{e} (JSON has no NaN or infinity: every number in a scene must be finite)")
+    } else {
+        e.to_string()
+    }
 }
 
 /// The static shapes of a scene-file text alone: its `[[plane]]`, `[[cylinder]]` and

@@ -155,6 +155,27 @@ fn json_builds_the_same_world() {
     assert_eq!(from_json, from_toml);
 }
 
+/// JSON has no NaN or infinity: where serde_json stops at one, the message says so (and only
+/// there: another syntax error keeps serde_json's own words).
+#[test]
+fn json_names_a_nan_or_an_infinity_it_cannot_read() {
+    let error = |value: &str| {
+        let text = format!(
+            r#"{{"run": {{"t_end": 1}}, "sphere": [{{"centre": [5, 0, {value}], "radius": 1}}]}}"#
+        );
+        SceneFile::from_json_str(&text).unwrap_err().to_string()
+    };
+    for value in ["NaN", "Infinity", "-Infinity"] {
+        let message = error(value);
+        assert!(
+            message.contains("JSON has no NaN or infinity"),
+            "{value}: {message}"
+        );
+    }
+    let message = error("[1]");
+    assert!(!message.contains("NaN"), "{message}");
+}
+
 fn toml_error(text: &str) -> String {
     match SceneFile::from_toml_str(text) {
         Err(e) => e.to_string(),
