@@ -76,7 +76,6 @@ impl Simulation {
             delta,
             walls,
             log: world.effects.record_events,
-            tc: world.effects.tc,
         };
         let engine = match response {
             ResponseChoice::ReportOnly => pick_motion(ReportOnly::new(n), switches, parts),
@@ -357,8 +356,6 @@ struct Parts {
     delta: f64,
     walls: Statics<u16>,
     log: bool,
-    /// The TC model's duration: under gravity, a resting sphere's least hop.
-    tc: f64,
 }
 
 // The choice of engine, one switch at a time: `pick_motion` fixes `PERIODIC` and `GRAVITY`
@@ -397,15 +394,14 @@ fn pick_geometry<R: Responder + Clusters + 'static, const P: bool, const W: bool
         delta,
         walls,
         log,
-        tc,
     } = parts;
     if s.geometry {
         Box::new(Engine::<R, P, W, true, F>::new(
-            m, cells, delta, walls, r, log, tc,
+            m, cells, delta, walls, r, log,
         ))
     } else {
         Box::new(Engine::<R, P, W, false, F>::new(
-            m, cells, delta, walls, r, log, tc,
+            m, cells, delta, walls, r, log,
         ))
     }
 }

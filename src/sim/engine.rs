@@ -188,9 +188,6 @@ pub(crate) struct Engine<
     /// Fault injection for the tests that show the invariant check fires: the concave-wall
     /// floor off and the old container policy (see `Simulation::break_walls_for_testing`).
     pub broken_walls: bool,
-    /// Under gravity: the least time a sphere resting on a wall takes to come back to it (the
-    /// TC model's duration, or `0`: then only rounding sets its hops, `walls::hop_speed`).
-    rest_time: f64,
     /// Periodic boxes only (else empty): how many times each sphere has been wrapped across
     /// each axis (`+1` leaving through the upper face), so that its unwrapped position is its
     /// position plus `images · len`.
@@ -239,9 +236,8 @@ impl<
     const GRAVITY: bool,
 > Engine<R, PERIODIC, WALLS, GEOMETRY, GRAVITY>
 {
-    /// Assembles the engine at time 0 with shells of half-width `delta` (and, under gravity,
-    /// rest hops of `rest_time`: the TC model's duration), builds every list and predicts
-    /// every sphere.
+    /// Assembles the engine at time 0 with shells of half-width `delta`, builds every list and
+    /// predicts every sphere.
     pub fn new(
         m: Motion,
         cells: Cells,
@@ -249,7 +245,6 @@ impl<
         walls: Statics<u16>,
         responder: R,
         log: bool,
-        rest_time: f64,
     ) -> Self {
         let n = m.bodies.len();
         let centres = crate::sim::pages::collected(m.bodies.iter().map(|b| lists::Shell {
@@ -295,7 +290,6 @@ impl<
             since_reorder: 0,
             width: 1.0,
             broken_walls: false,
-            rest_time,
             images: if PERIODIC {
                 vec![[0; 3]; n]
             } else {
@@ -627,7 +621,7 @@ impl<
         };
         self.outcome.clear();
         let hop = if GRAVITY {
-            super::walls::hop_speed(self.m.g, n, bi.r, bi.radius, self.rest_time)
+            super::walls::hop_speed(self.m.g, n, bi.r, bi.radius)
         } else {
             0.0
         };

@@ -85,7 +85,9 @@ pub struct EventRecord {
     pub other: Body,
     /// Normal approach speed before the collision.
     pub approach: f64,
-    /// Restitution applied (`1` elastic, `0` sticky).
+    /// Restitution applied (`1` elastic, `0` sticky), or where a hop under gravity raised the
+    /// separation speed, that speed over the approach (above 1, with a negative
+    /// `energy_lost`, where the hop added energy: docs/derivations/gravity.md, "Resting piles").
     pub restitution: f64,
     /// Kinetic energy the collision took.
     pub energy_lost: f64,

@@ -105,7 +105,8 @@ pub(crate) struct Outcome {
     pub virial: f64,
     /// Normal approach speed before the collision.
     pub approach: f64,
-    /// Restitution applied (`0` for sticky; NaN report-only, which applies none).
+    /// Restitution applied (`0` for sticky; NaN report-only, which applies none), or the
+    /// separation speed over the approach where a hop raised it.
     pub restitution: f64,
     /// Whether two clusters (or a cluster and a wall) joined.
     pub joined: bool,
@@ -205,8 +206,9 @@ pub(crate) struct Wall {
     /// plane, a cylinder), which a sphere leaving it never meets again on a straight line; a
     /// container's floor for concave walls ([`leave_wall`]).
     pub floor: f64,
-    /// Least normal speed at which the sphere leaves under gravity, so that a resting sphere
-    /// hops ([`hop_off`], `walls::hop_speed`); `0` without gravity.
+    /// Least normal speed at which the sphere leaves where gravity presses it on, so that a
+    /// resting sphere hops ([`hop_off`], `walls::hop_speed`); `0` elsewhere. The TC model
+    /// raises it for a resting contact ([`Materials::wall`]).
     pub hop: f64,
     /// Which shape.
     pub body: Body,
@@ -514,13 +516,21 @@ impl Materials {
         self.last[k] = now;
     }
 
-    /// Under gravity with the TC model: the velocity changes `(dvi, dvj)` and the energy lost of
-    /// a pair collision, raised so that the pair separates at least at the hop speed
-    /// `‖g‖·tc/2` (momentum kept, the energy added taken from the loss): a contact between
-    /// spheres pressed together by the weight above them then recurs no sooner than about
-    /// `tc`, as a wall contact does (`walls::hop_speed`), instead of chattering ever faster as
-    /// the pile's last motion drains away (docs/derivations/gravity.md, "Resting piles").
-    /// Unchanged without gravity or TC.
+    /// The TC model's hop speed under gravity, `‖g‖·tc/2` (`0` without either).
+    #[inline]
+    fn rest_hop(&self, g: DVec3) -> f64 {
+        0.5 * g.length() * self.tc
+    }
+
+    /// Under gravity, for a collision the TC model made elastic (within `tc` of a sphere's
+    /// last): the velocity changes `(dvi, dvj)` and the energy lost of a pair collision, raised
+    /// so that the pair separates at least at the hop speed `‖g‖·tc/2` (momentum kept, the
+    /// energy added taken from the loss), and the separation speed when it was raised. A
+    /// contact between spheres pressed together by the weight above them then recurs no sooner
+    /// than about `tc`, as a wall contact does ([`Materials::wall`]), instead of chattering
+    /// ever faster as the pile's last motion drains away; a pair meeting for the first time in
+    /// `tc` (two grains touching in free fall) keeps its coefficient and loses energy
+    /// (docs/derivations/gravity.md, "Resting piles").
     #[inline]
     fn pair_hop(
         &self,
@@ -529,14 +539,14 @@ impl Materials {
         (mi, mj): (f64, f64),
         relative: f64,
         (dvi, dvj, lost): (DVec3, DVec3, f64),
-    ) -> (DVec3, DVec3, f64) {
-        if g == DVec3::ZERO || self.tc <= 0.0 || mi.is_infinite() || mj.is_infinite() {
-            return (dvi, dvj, lost);
+    ) -> (DVec3, DVec3, f64, Option<f64>) {
+        if mi.is_infinite() || mj.is_infinite() {
+            return (dvi, dvj, lost, None);
         }
-        let hop = 0.5 * g.length() * self.tc;
+        let hop = self.rest_hop(g);
         let apart = relative + (dvj - dvi).dot(n);
         if apart >= hop {
-            return (dvi, dvj, lost);
+            return (dvi, dvj, lost, None);
         }
         let mu = mi * mj / (mi + mj);
         let impulse = mu * (hop - apart);
@@ -545,6 +555,7 @@ impl Materials {
             dvi - n * (impulse / mi),
             dvj + n * (impulse / mj),
             lost - added,
+            Some(hop),
         )
     }
 
@@ -570,15 +581,13 @@ impl Materials {
             .map(Vec::as_slice)
     }
 
-    fn restitution(&self, e: f64, now: f64, spheres: &[u32]) -> f64 {
-        if spheres
+    /// Whether one of `spheres` collided less than `tc` before `now`: the TC model makes the
+    /// collision elastic (and, under gravity, gives it the hop).
+    #[inline]
+    fn resting(&self, now: f64, spheres: &[u32]) -> bool {
+        spheres
             .iter()
             .any(|&s| now - self.last[s as usize] < self.tc)
-        {
-            1.0
-        } else {
-            e
-        }
     }
 
     /// Gives every member of cluster `c` the velocity `v`.
@@ -714,9 +723,11 @@ impl Responder for Materials {
         out.approach = u;
         out.guarded = guarded;
         let response = self.response(m.material[i as usize], m.material[j as usize]);
+        let resting = self.resting(now, &[i, j]);
         let e = match response {
             Response::ReportOnly | Response::Elastic => 1.0,
-            Response::Inelastic { restitution } => self.restitution(restitution, now, &[i, j]),
+            Response::Inelastic { .. } if resting => 1.0,
+            Response::Inelastic { restitution } => restitution,
             Response::Sticky => {
                 // Common velocity conserving momentum; a stuck cluster (infinite mass) holds.
                 let v = if mi.is_infinite() || mj.is_infinite() {
@@ -744,12 +755,16 @@ impl Responder for Materials {
             }
         };
         let (dvi, dvj, lost, virial) = exchange(mi, mj, u, e, n, dist);
-        let (dvi, dvj, lost) = self.pair_hop(m.g, n, (mi, mj), (vj - vi).dot(n), (dvi, dvj, lost));
+        let (dvi, dvj, lost, hopped) = if resting && m.g != DVec3::ZERO {
+            self.pair_hop(m.g, n, (mi, mj), (vj - vi).dot(n), (dvi, dvj, lost))
+        } else {
+            (dvi, dvj, lost, None)
+        };
         self.collided(i, now, e, out);
         self.collided(j, now, e, out);
         out.energy_lost = lost;
         out.virial = virial;
-        out.restitution = e;
+        out.restitution = hopped.map_or(e, |w| w / u);
         if !mi.is_infinite() {
             self.move_cluster(m, ci, vi + dvi, now, out);
         }
@@ -766,9 +781,11 @@ impl Responder for Materials {
         out.approach = u;
         out.guarded = guarded;
         let mc = self.cmass[c as usize];
+        let resting = self.resting(now, &[i]);
         let e = match self.response(m.material[i as usize], wall.material) {
             Response::ReportOnly | Response::Elastic => 1.0,
-            Response::Inelastic { restitution } => self.restitution(restitution, now, &[i]),
+            Response::Inelastic { .. } if resting => 1.0,
+            Response::Inelastic { restitution } => restitution,
             Response::Sticky => {
                 out.energy_lost = 0.5 * mc * v.length_squared();
                 out.restitution = 0.0;
@@ -783,9 +800,17 @@ impl Responder for Materials {
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);
-        let (v, added) = hop_off(v, n, wall.hop);
+        // The TC model's hop only for a contact within `tc` of the sphere's last (a resting
+        // one; see `pair_hop`); rounding's everywhere gravity presses.
+        let hop = if resting {
+            wall.hop.max(self.rest_hop(m.g))
+        } else {
+            wall.hop
+        };
+        let (v, added) = hop_off(v, n, hop);
         if added > 0.0 {
             out.energy_lost -= added * mc;
+            out.restitution = hop / u;
         }
         out.slid = slid;
         self.move_cluster(m, c, v, now, out);

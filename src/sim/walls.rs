@@ -183,21 +183,19 @@ impl Statics<u16> {
     }
 }
 
-/// The least normal speed at which a sphere leaves a wall under gravity: `‖g‖·tc/2` with the
-/// TC model (`rest_time = tc`), so that a contact pressed shut by anything of gravity's size —
-/// its own weight, or its neighbours' passed on sideways — comes back no sooner than about
-/// `tc`; and, where gravity itself presses it on (`γ = −g·n̂ > 0`), enough to rise at least
-/// `2⁻³⁰ (‖r‖ + radius)`, far above the rounding of the gap there, so that the contact it left
-/// and the one it returns to are told apart (docs/derivations/gravity.md, "Resting contact").
-pub(crate) fn hop_speed(g: DVec3, n: DVec3, r: DVec3, radius: f64, rest_time: f64) -> f64 {
+/// The least normal speed at which a sphere leaves a wall under gravity where gravity itself
+/// presses it on (`γ = −g·n̂ > 0`): enough to rise at least `2⁻³⁰ (‖r‖ + radius)`, far above
+/// the rounding of the gap there, so that the contact it left and the one it returns to are
+/// told apart; `0` elsewhere. The TC model raises it for a contact within `tc` of the sphere's
+/// last (`Materials::rest_hop`; docs/derivations/gravity.md, "Resting contact").
+pub(crate) fn hop_speed(g: DVec3, n: DVec3, r: DVec3, radius: f64) -> f64 {
     let gamma = -g.dot(n);
-    let rounding = if gamma > 0.0 {
+    if gamma > 0.0 {
         let rise = (r.length() + radius) / (1u64 << 30) as f64;
         (2.0 * gamma * rise).sqrt()
     } else {
         0.0
-    };
-    (0.5 * g.length() * rest_time).max(rounding)
+    }
 }
 
 /// `κ²` of a concave wall's floor angle where rounding does not matter: `2⁻²⁴` (the sphere
