@@ -660,3 +660,54 @@ fn the_event_log_reads_what_each_collision_did() {
         log.len()
     );
 }
+
+/// Without TC an inelastic pile in a bowl has no floor but the rounding hop on its walls
+/// (`2⁻³⁰` of the scene's size), which feeds it as fast as its collisions drain it: 30 spheres
+/// at restitution 0.5 ground on at a steady 8.5 · 10⁶ collisions per unit time, each sphere's
+/// some 10⁻⁶ apart (an eighth of the rounding hop's flight is 6 · 10⁻⁶), never converging and
+/// never named. The collapse watch names it, within a bounded number of collisions; with TC the
+/// same pile runs on.
+#[test]
+fn an_inelastic_pile_in_a_bowl_without_tc_is_named_a_collapse() {
+    let pile = |tc: f64| {
+        let inside = |p: DVec3| p.length() < 2.5;
+        let spheres = spheresweep::sim::generate::random_spheres(
+            DVec3::splat(-3.0),
+            DVec3::splat(3.0),
+            &inside,
+            30,
+            0.5,
+            1.0,
+            0,
+            5,
+        )
+        .unwrap();
+        let world = World {
+            spheres,
+            statics: Statics::new().with(Container::new([0.0; 3], 3.0).unwrap(), 0),
+            effects: Effects {
+                response: Response::Inelastic { restitution: 0.5 },
+                tc,
+                gravity: down(),
+                ..Effects::default()
+            },
+            ..World::default()
+        };
+        Simulation::new(world).unwrap()
+    };
+    let mut without = pile(0.0);
+    let mut polls = 0u64;
+    match without.advance_with(6.0, &mut |_, _| {
+        polls += 1;
+        polls < 5_000
+    }) {
+        Err(e @ spheresweep::sim::SimError::Collapse { .. }) => {
+            assert!(e.to_string().contains("tc > 0"), "{e}");
+        }
+        other => panic!(
+            "expected the collapse named, got {other:?} at t = {}",
+            without.time()
+        ),
+    }
+    pile(1e-3).advance_to(6.0).unwrap();
+}

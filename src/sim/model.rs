@@ -478,13 +478,15 @@ pub enum SimError {
         /// The sphere (public index).
         sphere: usize,
     },
-    /// Inelastic collapse: a sphere collided again and again, each time within `2⁻²⁰` of a
-    /// sphere's mean time between events of its previous collision — infinitely many collisions
+    /// Inelastic collapse: a sphere's dissipating collisions came, `collisions` times over,
+    /// within `2⁻²⁰` of a sphere's mean time between events of its previous one (under gravity,
+    /// within an eighth of a hop at rounding height off a floor) — infinitely many collisions
     /// in finite time, which hard inelastic spheres undergo without the TC model.
     #[error(
-        "inelastic collapse at t = {}: sphere {sphere} collided {collisions} times in a row, \
-         each within 2⁻²⁰ of a sphere's mean time between events of the one before (infinitely \
-         many collisions in finite time: give the scene the TC model, `tc > 0`)",
+        "inelastic collapse at t = {}: sphere {sphere}'s dissipating collisions came {collisions} \
+         times more often than once per 2⁻²⁰ of a sphere's mean time between events (under \
+         gravity: per eighth of a hop at rounding height, a pile held up by rounding alone) \
+         (infinitely many collisions in finite time: give the scene the TC model, `tc > 0`)",
         crate::error::Num(*time)
     )]
     Collapse {
@@ -492,7 +494,7 @@ pub enum SimError {
         time: f64,
         /// The sphere (public index).
         sphere: usize,
-        /// Its collisions in a row.
+        /// Its count of rapid collisions.
         collisions: u64,
     },
     /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a

@@ -114,13 +114,14 @@ pub(crate) struct Outcome {
     pub guarded: bool,
     /// Whether the sphere left a concave wall at the floor angle (see [`leave_wall`]).
     pub slid: bool,
-    /// A sphere in inelastic collapse: its last [`RAPID_LIMIT`] collisions each came within
-    /// the rapid window of the one before.
+    /// A sphere in inelastic collapse: its dissipating collisions outran its rapid window
+    /// [`RAPID_LIMIT`] times over (`Materials::collided`).
     pub collapsing: Option<u32>,
 }
 
-/// Collisions in a row, each within the rapid window of the sphere's previous one, that mark
-/// inelastic collapse (infinitely many collisions in finite time: the TC model prevents it).
+/// A sphere's count of dissipating collisions within the rapid window of its previous one
+/// (less one per whole window between two) that marks inelastic collapse (infinitely many
+/// collisions in finite time: the TC model prevents it).
 pub(crate) const RAPID_LIMIT: u32 = 100_000;
 
 impl Outcome {
@@ -476,7 +477,7 @@ pub(crate) struct Materials {
     members: Vec<Vec<u32>>,
     /// Cluster masses (`∞` once stuck to a static shape).
     cmass: Vec<f64>,
-    /// Each sphere's collisions in a row within `rapid_window` of its previous one.
+    /// Each sphere's count towards a collapse (`collided`).
     rapid: Vec<u32>,
     /// `2⁻²⁰` of the mean time between a sphere's events.
     rapid_window: f64,
@@ -499,14 +500,37 @@ impl Materials {
     }
 
     /// Sphere `s` collided at `now` with restitution `e`: the TC model's clock, and the
-    /// collapse watch. Only a run of dissipating collisions is a collapse: an elastic one (the
-    /// TC model's, among others) ends the run, so a resting stack under gravity that chatters
-    /// elastically is not taken for one (docs/derivations/gravity.md, "Resting contact").
+    /// collapse watch. A dissipating collision within the window of the sphere's previous one
+    /// adds one to its count, a later one takes off one per whole window elapsed; at
+    /// [`RAPID_LIMIT`] it is a collapse. An elastic collision (the TC model's, among others)
+    /// ends the count, so a resting stack under gravity that chatters elastically is not taken
+    /// for one (docs/derivations/gravity.md, "Resting contact"). The window is `2⁻²⁰` of the
+    /// mean time between events, and under gravity at least an eighth of the flight of the
+    /// rounding hop off a floor (`walls::rounding_hop_time`), capped at `tc` (a dissipating
+    /// collision is at least `tc` after the sphere's previous one): without TC a pile whose
+    /// only floor is that hop grinds at a steady rate of dissipating collisions many times a
+    /// hop instead of converging, and is a collapse all the same; one sphere resting on a
+    /// floor, or sliding round a bowl, meets the wall once a hop or a chord, taking the count
+    /// down (docs/derivations/gravity.md, "Resting piles").
     #[inline]
-    fn collided(&mut self, s: u32, now: f64, e: f64, out: &mut Outcome) {
+    fn collided(&mut self, m: &Motion, s: u32, now: f64, e: f64, out: &mut Outcome) {
         let k = s as usize;
-        if e < 1.0 && now - self.last[k] < self.rapid_window {
-            self.rapid[k] += 1;
+        if e < 1.0 {
+            let b = &m.bodies[k];
+            let tc = if self.tc > 0.0 {
+                self.tc
+            } else {
+                f64::INFINITY
+            };
+            let hop = super::walls::rounding_hop_time(m.g, b.r, b.radius) / 8.0;
+            let window = self.rapid_window.max(hop.min(tc));
+            let leak = ((now - self.last[k]) / window).floor();
+            // NaN (no window yet, or no previous collision) ends the count too.
+            self.rapid[k] = if leak < f64::from(self.rapid[k]) + 1.0 {
+                self.rapid[k] + 1 - leak as u32
+            } else {
+                0
+            };
             if self.rapid[k] >= RAPID_LIMIT {
                 out.collapsing = Some(s);
             }
@@ -749,8 +773,8 @@ impl Responder for Materials {
                 out.joined = true;
                 let c = self.join(ci, cj);
                 self.move_cluster(m, c, v, now, out);
-                self.collided(i, now, 0.0, out);
-                self.collided(j, now, 0.0, out);
+                self.collided(m, i, now, 0.0, out);
+                self.collided(m, j, now, 0.0, out);
                 return;
             }
         };
@@ -760,8 +784,8 @@ impl Responder for Materials {
         } else {
             (dvi, dvj, lost, None)
         };
-        self.collided(i, now, e, out);
-        self.collided(j, now, e, out);
+        self.collided(m, i, now, e, out);
+        self.collided(m, j, now, e, out);
         out.energy_lost = lost;
         out.virial = virial;
         out.restitution = hopped.map_or(e, |w| w / u);
@@ -792,11 +816,11 @@ impl Responder for Materials {
                 out.joined = true;
                 self.cmass[c as usize] = f64::INFINITY;
                 self.move_cluster(m, c, DVec3::ZERO, now, out);
-                self.collided(i, now, 0.0, out);
+                self.collided(m, i, now, 0.0, out);
                 return;
             }
         };
-        self.collided(i, now, e, out);
+        self.collided(m, i, now, e, out);
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);

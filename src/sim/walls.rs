@@ -198,6 +198,18 @@ pub(crate) fn hop_speed(g: DVec3, n: DVec3, r: DVec3, radius: f64) -> f64 {
     }
 }
 
+/// The flight of the hop at rounding height `ρ = 2⁻³⁰ (‖r‖ + radius)` off a floor, `2 √(2ρ/‖g‖)`
+/// ([`hop_speed`] without TC, `γ = ‖g‖`): the least time a sphere resting on a floor there spends
+/// off it. `0` without gravity.
+pub(crate) fn rounding_hop_time(g: DVec3, r: DVec3, radius: f64) -> f64 {
+    let g = g.length();
+    if g == 0.0 {
+        return 0.0;
+    }
+    let rise = (r.length() + radius) / (1u64 << 30) as f64;
+    2.0 * (2.0 * rise / g).sqrt()
+}
+
 /// `κ²` of a concave wall's floor angle where rounding does not matter: `2⁻²⁴` (the sphere
 /// leaves at `2⁻¹²` rad, about 0.014°, or more).
 const WALL_FLOOR_SQUARED: f64 = 1.0 / (1u64 << 24) as f64;
