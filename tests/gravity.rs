@@ -401,13 +401,16 @@ fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_eq
 }
 
 /// A settling inelastic pile with TC, at restitution near 0, in the middle and near 1: no
-/// sphere ever beyond the bowl or into another (this file's own distances, at 150 frames),
+/// sphere ever beyond the bowl or into another (this file's own distances, at 200 frames),
 /// the balance of `K + U` and the losses closes, and — where the restitution lets it settle
-/// within the run — the pile comes to rest: by t = 12 its kinetic energy is below 2 · 10⁻³ of
-/// the energy it lost. (Not to zero: frictionless spheres slide along the bowl and against
-/// each other with nothing but normal impulses to take that motion, so a residue sloshes;
-/// measured at t = 8, 12 and 16: 2.1, 1.3 and 0.7 · 10⁻³ at e = 0.02, 1.5, 0.6 and 0.4 · 10⁻³
-/// at e = 0.6; docs/derivations/gravity.md, "What at rest means here".)
+/// within the run — the pile comes to rest but for a residue that sloshes: frictionless
+/// spheres slide along the bowl and against each other with nothing but normal impulses to
+/// take that motion, so their kinetic energy swings (with a period of about 2.35, half the
+/// bowl's pendulum period) rather than decays. The test asks that from t = 8 to 16 it stay
+/// below 3 · 10⁻³ of the energy lost (the largest measured: 2.0 · 10⁻³ at e = 0.02, 1.6 · 10⁻³
+/// at e = 0.6) and that its peak from t = 12 on be no higher than from 8 to 12 (nothing pumps
+/// it up: measured 1.86 against 2.0, 1.48 against 1.62); docs/derivations/gravity.md, "What
+/// at rest means here".
 #[test]
 fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
     for (e, settles) in [(0.02, true), (0.6, true), (0.98, false)] {
@@ -436,8 +439,15 @@ fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
         };
         let mut sim = Simulation::new(world).unwrap();
         let e0 = sim.kinetic_energy() + sim.potential_energy();
-        for k in 1..=150 {
+        // The largest K / lost from t = 8 to 12, and after 12.
+        let mut peaks = [0.0f64; 2];
+        for k in 1..=200 {
             sim.advance_to(0.08 * f64::from(k)).unwrap();
+            if k >= 100 {
+                let share = sim.kinetic_energy() / sim.stats().energy_lost;
+                let p = &mut peaks[usize::from(k > 150)];
+                *p = p.max(share);
+            }
             let s = sim.spheres();
             for (i, a) in s.iter().enumerate() {
                 let out = a.centre.length() + a.radius - 6.0;
@@ -465,7 +475,10 @@ fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
             k + u + lost
         );
         if settles {
-            assert!(k < 2e-3 * lost, "e = {e}: K = {k} of the {lost} lost");
+            assert!(
+                peaks[0] < 3e-3 && peaks[1] < 3e-3 && peaks[1] <= peaks[0],
+                "e = {e}: K / lost peaked at {peaks:?} from t = 8 to 12, and after"
+            );
         }
     }
 }
@@ -475,7 +488,7 @@ fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
 /// than `tc`, so the events per unit time stay bounded — under `7N/tc` (at most twelve
 /// contacts a sphere, each pair counted once, and a wall: seven contacts per sphere, each
 /// recurring about every `tc` at most) in each of ten seconds at rest, measured at a steady
-/// `1.7–1.9 N/tc` — and the kinetic energy stays small. Without the pair hop the rate grows
+/// `1.8–2.0 N/tc` — and the kinetic energy stays small. Without the pair hop the rate grows
 /// (8 · 10⁴ to 3.9 · 10⁵ from the first second to the seventh), and with hops only where
 /// gravity presses on a wall it explodes (6.7 × 10⁷ events by t = 8.25):
 /// docs/derivations/gravity.md, "Resting piles". A run past its event budget stops and
@@ -647,7 +660,7 @@ fn the_event_log_reads_what_each_collision_did() {
             ev.other,
             ev.energy_lost
         );
-        if r > 1.0 {
+        if r > 1.0 + 1e-6 {
             hops += 1;
         } else if r == e {
             kept += 1;
@@ -666,7 +679,9 @@ fn the_event_log_reads_what_each_collision_did() {
 /// at restitution 0.5 ground on at a steady 8.5 · 10⁶ collisions per unit time, each sphere's
 /// some 10⁻⁶ apart (an eighth of the rounding hop's flight is 6 · 10⁻⁶), never converging and
 /// never named. The collapse watch names it, within a bounded number of collisions; with TC the
-/// same pile runs on.
+/// same pile runs on (by construction for the watch: with TC its window is at most `tc`, and a
+/// dissipating collision comes at least `tc` after the sphere's last, so none adds to the
+/// count — this half guards the run, not the watch).
 #[test]
 fn an_inelastic_pile_in_a_bowl_without_tc_is_named_a_collapse() {
     let pile = |tc: f64| {
@@ -710,4 +725,39 @@ fn an_inelastic_pile_in_a_bowl_without_tc_is_named_a_collapse() {
         ),
     }
     pile(1e-3).advance_to(6.0).unwrap();
+}
+
+/// One sphere sliding round a bowl without TC meets the wall many times a window of the
+/// collapse watch (a chord of angle `2κ`, `κ = 2⁻¹²`, lasts `2κD/v`), fast or under weak
+/// gravity or far from the origin (where the rounding hop's flight, the window's floor, is
+/// long): it is sliding, not collapsing, and runs on. Wall collisions under gravity are not
+/// counted; counting them named these three a collapse at t = 19.6, 0.49 and 19.5 (a review).
+#[test]
+fn a_sphere_sliding_round_a_bowl_without_tc_is_no_collapse() {
+    for (g, v, centre, t_end) in [
+        (1e-4, 10.0, [0.0; 3], 25.0),
+        (9.81, 400.0, [0.0; 3], 1.0),
+        (1.0, 10.0, [1e4, 0.0, 0.0], 25.0),
+    ] {
+        let c = DVec3::from_array(centre);
+        let world = World {
+            spheres: vec![ball(c - DVec3::Z * 3.9999, DVec3::X * v)],
+            statics: Statics::new().with(Container::new(c.as_vec3().to_array(), 4.5).unwrap(), 0),
+            effects: Effects {
+                response: Response::Inelastic { restitution: 0.5 },
+                gravity: DVec3::new(0.0, 0.0, -g),
+                ..Effects::default()
+            },
+            ..World::default()
+        };
+        let mut sim = Simulation::new(world).unwrap();
+        if let Err(e) = sim.advance_to(t_end) {
+            panic!("g = {g}, v = {v}, bowl at {centre:?}: {e}");
+        }
+        assert!(
+            sim.stats().wall_collisions > 1000,
+            "it slid: {:?}",
+            sim.stats()
+        );
+    }
 }

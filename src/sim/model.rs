@@ -159,11 +159,11 @@ pub struct Effects {
     /// collision was less than `tc` ago is elastic. `0` turns it off.
     ///
     /// It also sets what rest costs under gravity: a sphere resting on a wall hops off it for
-    /// `tc` or so, then bounces for `e·tc` (a settled pile of `N` makes a few `N/tc` events a
-    /// unit of time);
-    /// without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the sphere's distance from the origin plus its radius, `γ` the gravity
-    /// across the wall — thousands of hops a unit of time for a sphere resting 5 from the
-    /// origin under `g = 1` (docs/derivations/gravity.md, "Resting contact").
+    /// a little more than `tc`, then bounces for `e·tc` (a settled pile of `N` makes a few
+    /// `N/tc` events a unit of time); without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the
+    /// sphere's distance from the origin plus its radius, `γ` the gravity across the wall —
+    /// thousands of hops a unit of time for a sphere resting 5 from the origin under `g = 1`
+    /// (docs/derivations/gravity.md, "Resting contact").
     ///
     /// ```
     /// # use glam::DVec3;
@@ -197,7 +197,7 @@ pub struct Effects {
     /// let (with_tc, without) = (hops_a_unit_of_time(1e-3)?, hops_a_unit_of_time(0.0)?);
     /// // A hop lasts at least tc and the bounce after it e·tc, so at most 2/((1 + e) tc) = 1333
     /// // contacts a unit of time; without TC a flight lasts at least 2√(2ρ), ρ = 5·2⁻³⁰ (|r| + radius).
-    /// assert!((500.0..=1334.0).contains(&with_tc), "{with_tc}"); // measured 1176.5
+    /// assert!((500.0..=1334.0).contains(&with_tc), "{with_tc}"); // measured 1176.5 (from t ≈ 4.24)
     /// assert!((2000.0..=5200.0).contains(&without), "{without}"); // measured 4558
     /// # Ok::<(), spheresweep::Error>(())
     /// ```
@@ -478,15 +478,19 @@ pub enum SimError {
         /// The sphere (public index).
         sphere: usize,
     },
-    /// Inelastic collapse: a sphere's dissipating collisions came, `collisions` times over,
-    /// within `2⁻²⁰` of a sphere's mean time between events of its previous one (under gravity,
-    /// within an eighth of a hop at rounding height off a floor) — infinitely many collisions
-    /// in finite time, which hard inelastic spheres undergo without the TC model.
+    /// Inelastic collapse: a sphere's dissipating collisions came faster than one per window
+    /// of the collapse watch, `collisions` more than the windows elapsed (the window `2⁻²⁰` of
+    /// a sphere's mean time between events; under gravity at least an eighth of a hop at
+    /// rounding height off a floor, wall contacts not counted) — infinitely many collisions in
+    /// finite time, which hard inelastic spheres undergo without the TC model, or a pile held
+    /// up by the rounding hop alone.
     #[error(
-        "inelastic collapse at t = {}: sphere {sphere}'s dissipating collisions came {collisions} \
-         times more often than once per 2⁻²⁰ of a sphere's mean time between events (under \
-         gravity: per eighth of a hop at rounding height, a pile held up by rounding alone) \
-         (infinitely many collisions in finite time: give the scene the TC model, `tc > 0`)",
+        "inelastic collapse at t = {}: sphere {sphere}'s dissipating collisions came faster \
+         than one a window, {collisions} more than the windows elapsed (the window: 2⁻²⁰ of a \
+         sphere's mean time between events; under gravity at least an eighth of a hop at \
+         rounding height, and wall contacts not counted) — infinitely many collisions in \
+         finite time, or a pile held up by rounding alone: give the scene the TC model, \
+         `tc > 0`",
         crate::error::Num(*time)
     )]
     Collapse {
@@ -494,7 +498,7 @@ pub enum SimError {
         time: f64,
         /// The sphere (public index).
         sphere: usize,
-        /// Its count of rapid collisions.
+        /// Its count: rapid collisions less the windows elapsed.
         collisions: u64,
     },
     /// The engine processed more events than its limit without time advancing by 2⁻³⁰ of a

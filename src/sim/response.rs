@@ -499,32 +499,22 @@ impl Materials {
         }
     }
 
-    /// Sphere `s` collided at `now` with restitution `e`: the TC model's clock, and the
-    /// collapse watch. A dissipating collision within the window of the sphere's previous one
-    /// adds one to its count, a later one takes off one per whole window elapsed; at
-    /// [`RAPID_LIMIT`] it is a collapse. An elastic collision (the TC model's, among others)
-    /// ends the count, so a resting stack under gravity that chatters elastically is not taken
-    /// for one (docs/derivations/gravity.md, "Resting contact"). The window is `2⁻²⁰` of the
-    /// mean time between events, and under gravity at least an eighth of the flight of the
-    /// rounding hop off a floor (`walls::rounding_hop_time`), capped at `tc` (a dissipating
-    /// collision is at least `tc` after the sphere's previous one): without TC a pile whose
-    /// only floor is that hop grinds at a steady rate of dissipating collisions many times a
-    /// hop instead of converging, and is a collapse all the same; one sphere resting on a
-    /// floor, or sliding round a bowl, meets the wall once a hop or a chord, taking the count
-    /// down (docs/derivations/gravity.md, "Resting piles").
+    /// Sphere `s` collided at `now` with restitution `e` (with another sphere if `pair`): the
+    /// TC model's clock, and the collapse watch. A dissipating collision within the window
+    /// ([`Materials::rapid_window`]) of the sphere's previous one adds one to its count, a
+    /// later one takes off one per whole window elapsed; at [`RAPID_LIMIT`] it is a collapse.
+    /// An elastic collision (the TC model's, among others) ends the count, so a resting stack
+    /// that chatters elastically is not taken for one. Under gravity a wall collision is not
+    /// counted: the rounding hop already bounds a sphere's contacts with a wall, and a sphere
+    /// sliding round a bowl meets it many times a window (docs/derivations/gravity.md,
+    /// "Resting piles").
     #[inline]
-    fn collided(&mut self, m: &Motion, s: u32, now: f64, e: f64, out: &mut Outcome) {
+    fn collided(&mut self, m: &Motion, s: u32, now: f64, e: f64, pair: bool, out: &mut Outcome) {
         let k = s as usize;
-        if e < 1.0 {
-            let b = &m.bodies[k];
-            let tc = if self.tc > 0.0 {
-                self.tc
-            } else {
-                f64::INFINITY
-            };
-            let hop = super::walls::rounding_hop_time(m.g, b.r, b.radius) / 8.0;
-            let window = self.rapid_window.max(hop.min(tc));
-            let leak = ((now - self.last[k]) / window).floor();
+        if e >= 1.0 {
+            self.rapid[k] = 0;
+        } else if pair || m.g == DVec3::ZERO {
+            let leak = ((now - self.last[k]) / self.rapid_window(m, k)).floor();
             // NaN (no window yet, or no previous collision) ends the count too.
             self.rapid[k] = if leak < f64::from(self.rapid[k]) + 1.0 {
                 self.rapid[k] + 1 - leak as u32
@@ -534,16 +524,34 @@ impl Materials {
             if self.rapid[k] >= RAPID_LIMIT {
                 out.collapsing = Some(s);
             }
-        } else {
-            self.rapid[k] = 0;
         }
         self.last[k] = now;
     }
 
-    /// The TC model's hop speed under gravity, `‖g‖·tc/2` (`0` without either).
+    /// The collapse watch's window for sphere `k`: `2⁻²⁰` of the mean time between events, and
+    /// under gravity at least an eighth of the flight of the rounding hop off a floor
+    /// (`walls::rounding_hop_time`), capped at `tc` (a dissipating collision is at least `tc`
+    /// after the sphere's previous one). Without TC a pile whose only floor is that hop grinds
+    /// at a steady rate, many collisions a hop, instead of converging: a collapse all the same.
+    #[inline]
+    fn rapid_window(&self, m: &Motion, k: usize) -> f64 {
+        let b = &m.bodies[k];
+        let hop = super::walls::rounding_hop_time(m.g, b.r, b.radius) / 8.0;
+        let tc = if self.tc > 0.0 {
+            self.tc
+        } else {
+            f64::INFINITY
+        };
+        self.rapid_window.max(hop.min(tc))
+    }
+
+    /// The TC model's hop speed under gravity, `‖g‖·tc/2` and `2⁻²⁰` of it more (`0` without
+    /// either): off a level floor the flight then lasts `tc (1 + 2⁻²⁰)`, so that the contact it
+    /// comes back to is more than `tc` after the hop whatever the rounding, and not a resting
+    /// one (docs/derivations/gravity.md, "Resting contact").
     #[inline]
     fn rest_hop(&self, g: DVec3) -> f64 {
-        0.5 * g.length() * self.tc
+        0.5 * g.length() * self.tc * (1.0 + 1.0 / (1u64 << 20) as f64)
     }
 
     /// Under gravity, for a collision the TC model made elastic (within `tc` of a sphere's
@@ -773,8 +781,8 @@ impl Responder for Materials {
                 out.joined = true;
                 let c = self.join(ci, cj);
                 self.move_cluster(m, c, v, now, out);
-                self.collided(m, i, now, 0.0, out);
-                self.collided(m, j, now, 0.0, out);
+                self.collided(m, i, now, 0.0, true, out);
+                self.collided(m, j, now, 0.0, true, out);
                 return;
             }
         };
@@ -784,8 +792,8 @@ impl Responder for Materials {
         } else {
             (dvi, dvj, lost, None)
         };
-        self.collided(m, i, now, e, out);
-        self.collided(m, j, now, e, out);
+        self.collided(m, i, now, e, true, out);
+        self.collided(m, j, now, e, true, out);
         out.energy_lost = lost;
         out.virial = virial;
         out.restitution = hopped.map_or(e, |w| w / u);
@@ -816,11 +824,11 @@ impl Responder for Materials {
                 out.joined = true;
                 self.cmass[c as usize] = f64::INFINITY;
                 self.move_cluster(m, c, DVec3::ZERO, now, out);
-                self.collided(m, i, now, 0.0, out);
+                self.collided(m, i, now, 0.0, false, out);
                 return;
             }
         };
-        self.collided(m, i, now, e, out);
+        self.collided(m, i, now, e, false, out);
         out.restitution = e;
         out.energy_lost = 0.5 * mc * u * u * (1.0 - e * e);
         let (v, slid) = leave_wall(v + n * ((1.0 + e) * u), n, wall.floor);

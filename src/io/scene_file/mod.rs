@@ -126,9 +126,13 @@ fn json_message(text: &str, e: &serde_json::Error) -> String {
         .and_then(|line| line.get(e.column().saturating_sub(1)..))
         .unwrap_or("");
     let word = at.trim_start_matches(['-', '+']);
+    // A whole word: `infinite: 1` (an unquoted key) is another mistake.
     let nonfinite = ["NaN", "nan", "Infinity", "infinity", "inf"]
         .iter()
-        .any(|w| word.starts_with(w));
+        .any(|w| {
+            word.strip_prefix(w)
+                .is_some_and(|rest| !rest.starts_with(|c: char| c.is_alphanumeric() || c == '_'))
+        });
     if e.is_syntax() && nonfinite {
         format!("{e} (JSON has no NaN or infinity: every number in a scene must be finite)")
     } else {

@@ -174,6 +174,12 @@ fn json_names_a_nan_or_an_infinity_it_cannot_read() {
     }
     let message = error("[1]");
     assert!(!message.contains("NaN"), "{message}");
+    let unquoted = SceneFile::from_json_str(r#"{"run": {"t_end": 1}, infinite: 1}"#);
+    let message = unquoted.unwrap_err().to_string();
+    assert!(
+        message.contains("key must be a string") && !message.contains("NaN"),
+        "{message}"
+    );
 }
 
 fn toml_error(text: &str) -> String {
