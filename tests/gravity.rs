@@ -407,10 +407,10 @@ fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_eq
 /// spheres slide along the bowl and against each other with nothing but normal impulses to
 /// take that motion, so their kinetic energy swings (with a period of about 2.35, half the
 /// bowl's pendulum period) rather than decays. The test asks that from t = 8 to 16 it stay
-/// below 3 · 10⁻³ of the energy lost (the largest measured: 2.0 · 10⁻³ at e = 0.02, 1.6 · 10⁻³
-/// at e = 0.6) and that its peak from t = 12 on be no higher than from 8 to 12 (nothing pumps
-/// it up: measured 1.86 against 2.0, 1.48 against 1.62); docs/derivations/gravity.md, "What
-/// at rest means here".
+/// below 3 · 10⁻³ of the energy lost (the largest measured: 1.85 · 10⁻³ at e = 0.02,
+/// 1.46 · 10⁻³ at e = 0.6) and that its peak from t = 12 on be no higher than from 8 to 12
+/// (nothing pumps it up: measured 1.81 against 1.85, 1.44 against 1.46);
+/// docs/derivations/gravity.md, "What at rest means here".
 #[test]
 fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
     for (e, settles) in [(0.02, true), (0.6, true), (0.98, false)] {
@@ -488,7 +488,7 @@ fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
 /// than `tc`, so the events per unit time stay bounded — under `7N/tc` (at most twelve
 /// contacts a sphere, each pair counted once, and a wall: seven contacts per sphere, each
 /// recurring about every `tc` at most) in each of ten seconds at rest, measured at a steady
-/// `1.8–2.0 N/tc` — and the kinetic energy stays small. Without the pair hop the rate grows
+/// `2.4 N/tc` — and the kinetic energy stays small. Without the pair hop the rate grows
 /// (8 · 10⁴ to 3.9 · 10⁵ from the first second to the seventh), and with hops only where
 /// gravity presses on a wall it explodes (6.7 × 10⁷ events by t = 8.25):
 /// docs/derivations/gravity.md, "Resting piles". A run past its event budget stops and

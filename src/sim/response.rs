@@ -545,13 +545,15 @@ impl Materials {
         self.rapid_window.max(hop.min(tc))
     }
 
-    /// The TC model's hop speed under gravity, `‖g‖·tc/2` and `2⁻²⁰` of it more (`0` without
-    /// either): off a level floor the flight then lasts `tc (1 + 2⁻²⁰)`, so that the contact it
-    /// comes back to is more than `tc` after the hop whatever the rounding, and not a resting
-    /// one (docs/derivations/gravity.md, "Resting contact").
+    /// The TC model's hop speed under gravity, `‖g‖·tc/2` less `2⁻²⁰` of it (`0` without
+    /// either): off a level floor the flight then lasts `tc (1 − 2⁻²⁰)`, so that the contact it
+    /// comes back to is a resting one whatever the rounding, and hops again (with `‖g‖·tc/2`
+    /// the flight was `tc` to the last bits and rounding chose; a return just past `tc` bounced
+    /// at `e` without a hop, and a pile whose floor contacts did so ground on at 15 times the
+    /// rate: docs/derivations/gravity.md, "Resting contact").
     #[inline]
     fn rest_hop(&self, g: DVec3) -> f64 {
-        0.5 * g.length() * self.tc * (1.0 + 1.0 / (1u64 << 20) as f64)
+        0.5 * g.length() * self.tc * (1.0 - 1.0 / (1u64 << 20) as f64)
     }
 
     /// Under gravity, for a collision the TC model made elastic (within `tc` of a sphere's
