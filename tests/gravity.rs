@@ -400,6 +400,42 @@ fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_eq
     );
 }
 
+/// `n` spheres of radius 0.5 placed at random (`seed`) within `within` of the centre of a cube
+/// of half-side `half`, moving at speed 1, in a bowl of radius `bowl` centred there, under
+/// gravity; restitution `e` and the TC model's `tc`.
+fn bowl_pile(
+    n: usize,
+    (half, within): (f64, f64),
+    bowl: f32,
+    (e, tc): (f64, f64),
+    seed: u64,
+) -> Simulation {
+    let inside = |p: DVec3| p.length() < within;
+    let spheres = spheresweep::sim::generate::random_spheres(
+        DVec3::splat(-half),
+        DVec3::splat(half),
+        &inside,
+        n,
+        0.5,
+        1.0,
+        0,
+        seed,
+    )
+    .unwrap();
+    let world = World {
+        spheres,
+        statics: Statics::new().with(Container::new([0.0; 3], bowl).unwrap(), 0),
+        effects: Effects {
+            response: Response::Inelastic { restitution: e },
+            tc,
+            gravity: down(),
+            ..Effects::default()
+        },
+        ..World::default()
+    };
+    Simulation::new(world).unwrap()
+}
+
 /// A settling inelastic pile with TC, at restitution near 0, in the middle and near 1: no
 /// sphere ever beyond the bowl or into another (this file's own distances, at 200 frames),
 /// the balance of `K + U` and the losses closes, and — where the restitution lets it settle
@@ -414,30 +450,7 @@ fn an_elastic_gas_under_gravity_conserves_energy_and_settles_into_hydrostatic_eq
 #[test]
 fn a_settling_pile_comes_to_rest_inside_its_bowl_at_every_restitution() {
     for (e, settles) in [(0.02, true), (0.6, true), (0.98, false)] {
-        let inside = |p: DVec3| p.length() < 4.3;
-        let spheres = spheresweep::sim::generate::random_spheres(
-            DVec3::splat(-5.0),
-            DVec3::splat(5.0),
-            &inside,
-            120,
-            0.5,
-            1.0,
-            0,
-            8,
-        )
-        .unwrap();
-        let world = World {
-            spheres,
-            statics: Statics::new().with(Container::new([0.0; 3], 6.0).unwrap(), 0),
-            effects: Effects {
-                response: Response::Inelastic { restitution: e },
-                tc: 1e-3,
-                gravity: down(),
-                ..Effects::default()
-            },
-            ..World::default()
-        };
-        let mut sim = Simulation::new(world).unwrap();
+        let mut sim = bowl_pile(120, (5.0, 4.3), 6.0, (e, 1e-3), 8);
         let e0 = sim.kinetic_energy() + sim.potential_energy();
         // The largest K / lost from t = 8 to 12, and after 12.
         let mut peaks = [0.0f64; 2];
@@ -684,32 +697,7 @@ fn the_event_log_reads_what_each_collision_did() {
 /// count — this half guards the run, not the watch).
 #[test]
 fn an_inelastic_pile_in_a_bowl_without_tc_is_named_a_collapse() {
-    let pile = |tc: f64| {
-        let inside = |p: DVec3| p.length() < 2.5;
-        let spheres = spheresweep::sim::generate::random_spheres(
-            DVec3::splat(-3.0),
-            DVec3::splat(3.0),
-            &inside,
-            30,
-            0.5,
-            1.0,
-            0,
-            5,
-        )
-        .unwrap();
-        let world = World {
-            spheres,
-            statics: Statics::new().with(Container::new([0.0; 3], 3.0).unwrap(), 0),
-            effects: Effects {
-                response: Response::Inelastic { restitution: 0.5 },
-                tc,
-                gravity: down(),
-                ..Effects::default()
-            },
-            ..World::default()
-        };
-        Simulation::new(world).unwrap()
-    };
+    let pile = |tc: f64| bowl_pile(30, (3.0, 2.5), 3.0, (0.5, tc), 5);
     let mut without = pile(0.0);
     let mut polls = 0u64;
     match without.advance_with(6.0, &mut |_, _| {
