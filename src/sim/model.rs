@@ -159,8 +159,10 @@ pub struct Effects {
     /// collision was less than `tc` ago is elastic. `0` turns it off.
     ///
     /// It also sets what rest costs under gravity: a sphere resting on a wall hops off it
-    /// about every `tc` (a settled pile of `N` makes a few `N/tc` events a unit of time); without it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the
-    /// sphere's distance from the origin plus its radius, `γ` the gravity across the wall —
+    /// about every `tc` (a settled pile of `N` makes a few `N/tc` events a unit of time, and
+    /// some piles far more: docs/derivations/gravity.md, "Not every settled pile"); without
+    /// it, every `2√(2ρ/γ)`, with `ρ = 2⁻³⁰` of the sphere's distance from the origin plus its
+    /// radius, `γ` the gravity across the wall —
     /// thousands of hops a unit of time for a sphere resting 5 from the origin under `g = 1`
     /// (docs/derivations/gravity.md, "Resting contact").
     ///
@@ -188,7 +190,7 @@ pub struct Effects {
     ///         ..World::default()
     ///     };
     ///     let mut sim = Simulation::new(world)?;
-    ///     sim.advance_to(4.0)?; // at rest by now
+    ///     sim.advance_to(4.0)?; // its bounces end at t ≈ 4.24, then it hops
     ///     let before = sim.stats().wall_collisions;
     ///     sim.advance_to(6.0)?;
     ///     Ok::<_, spheresweep::Error>((sim.stats().wall_collisions - before) as f64 / 2.0)

@@ -505,9 +505,8 @@ impl Materials {
     /// later one takes off one per whole window elapsed; at [`RAPID_LIMIT`] it is a collapse.
     /// An elastic collision (the TC model's, among others) ends the count, so a resting stack
     /// that chatters elastically is not taken for one. Under gravity a wall collision is not
-    /// counted: the rounding hop already bounds a sphere's contacts with a wall, and a sphere
-    /// sliding round a bowl meets it many times a window (docs/derivations/gravity.md,
-    /// "Resting piles").
+    /// counted: a sphere sliding round a bowl meets the wall many times a window without
+    /// collapsing (docs/derivations/gravity.md, "Resting piles").
     #[inline]
     fn collided(&mut self, m: &Motion, s: u32, now: f64, e: f64, pair: bool, out: &mut Outcome) {
         let k = s as usize;
@@ -548,9 +547,8 @@ impl Materials {
     /// The TC model's hop speed under gravity, `‖g‖·tc/2` less `2⁻²⁰` of it (`0` without
     /// either): off a level floor the flight then lasts `tc (1 − 2⁻²⁰)`, so that the contact it
     /// comes back to is a resting one whatever the rounding, and hops again (with `‖g‖·tc/2`
-    /// the flight was `tc` to the last bits and rounding chose; a return just past `tc` bounced
-    /// at `e` without a hop, and a pile whose floor contacts did so ground on at 15 times the
-    /// rate: docs/derivations/gravity.md, "Resting contact").
+    /// the flight was `tc` to the last bits and rounding chose: docs/derivations/gravity.md,
+    /// "Resting contact").
     #[inline]
     fn rest_hop(&self, g: DVec3) -> f64 {
         0.5 * g.length() * self.tc * (1.0 - 1.0 / (1u64 << 20) as f64)
