@@ -183,6 +183,13 @@ impl Statics<u16> {
     }
 }
 
+/// The least rise of a hop at `r`, `ρ = 2⁻³⁰ (‖r‖ + radius)`: far above the rounding of a
+/// gap there ([`hop_speed`], [`rounding_hop_time`]).
+#[inline]
+fn rounding_rise(r: DVec3, radius: f64) -> f64 {
+    (r.length() + radius) / (1u64 << 30) as f64
+}
+
 /// The least normal speed at which a sphere leaves a wall under gravity where gravity itself
 /// presses it on (`γ = −g·n̂ > 0`): enough to rise at least `2⁻³⁰ (‖r‖ + radius)`, far above
 /// the rounding of the gap there, so that the contact it left and the one it returns to are
@@ -191,8 +198,7 @@ impl Statics<u16> {
 pub(crate) fn hop_speed(g: DVec3, n: DVec3, r: DVec3, radius: f64) -> f64 {
     let gamma = -g.dot(n);
     if gamma > 0.0 {
-        let rise = (r.length() + radius) / (1u64 << 30) as f64;
-        (2.0 * gamma * rise).sqrt()
+        (2.0 * gamma * rounding_rise(r, radius)).sqrt()
     } else {
         0.0
     }
@@ -206,8 +212,7 @@ pub(crate) fn rounding_hop_time(g: DVec3, r: DVec3, radius: f64) -> f64 {
     if g == 0.0 {
         return 0.0;
     }
-    let rise = (r.length() + radius) / (1u64 << 30) as f64;
-    2.0 * (2.0 * rise / g).sqrt()
+    2.0 * (2.0 * rounding_rise(r, radius) / g).sqrt()
 }
 
 /// `κ²` of a concave wall's floor angle where rounding does not matter: `2⁻²⁴` (the sphere
