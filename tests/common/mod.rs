@@ -90,15 +90,9 @@ pub fn model(pair: &Pair, mode: Accuracy, t_max: f64) -> Model {
         Side::Exterior => c <= dc,
         Side::Interior => c >= -dc,
     };
-    // Just outside and closing in with the root within its rounding of t = 0: the literal
-    // reference computes (−B − √disc)/2A with cancellation and may round it below 0 (a miss),
-    // where the truth is a contact within dt of now, which the kernels report at t = 0 (found
-    // by the `kernels` fuzz target: a point sphere on a cylinder's surface moving inwards).
-    let root_at_start = side == Side::Exterior && b < 0.0 && c > 0.0 && c / (sq - b) <= dt;
     let ambiguous = q.abs() <= dq
         || a <= da
         || (b.abs() <= db && in_contact)
-        || root_at_start
         // A root near the window's end; a contact now (t = 0) is in every window.
         || t_ref.is_some_and(|t| t > 0.0 && (t - t_max).abs() <= dt);
     Model {
