@@ -10,14 +10,22 @@
 
 use glam::DVec3;
 use spheresweep::sim::{
-    Boundary, Effects, MaterialPair, OVERLAP_TOLERANCE, Response, SimError, Simulation,
-    SphereState, Stats, World, generate,
+    Boundary, Effects, EventRecord, MaterialPair, OVERLAP_TOLERANCE, Response, SimError,
+    Simulation, SphereState, Stats, World, generate,
 };
 use spheresweep::{Body, Container, Cylinder, Plane, ShapeKind, Statics};
 
-/// One snapshot as `spheresweep run` writes it, parsed back here: each sphere's centre and
-/// radius, from the columns the `Properties` line names.
-fn snapshot(sim: &Simulation) -> Vec<(DVec3, f64)> {
+/// One sphere of a snapshot, as parsed back here.
+#[derive(Clone, Copy)]
+struct Row {
+    centre: DVec3,
+    velocity: DVec3,
+    radius: f64,
+}
+
+/// One snapshot as `spheresweep run` writes it, parsed back here: each sphere's centre,
+/// velocity and radius, from the columns the `Properties` line names.
+fn snapshot(sim: &Simulation) -> Vec<Row> {
     let mut text = Vec::new();
     spheresweep::io::xyz::write_frame(&mut text, &sim.spheres(), sim.time(), None).unwrap();
     let text = String::from_utf8(text).unwrap();
@@ -30,18 +38,20 @@ fn snapshot(sim: &Simulation) -> Vec<(DVec3, f64)> {
         .expect("a Properties key");
     // name:type:count triples; the column where each starts.
     let fields: Vec<&str> = properties.split(':').collect();
-    let (mut column, mut pos, mut radius) = (0, None, None);
+    let (mut column, mut pos, mut velo, mut radius) = (0, None, None, None);
     for f in fields.chunks(3) {
         let count: usize = f[2].parse().unwrap();
         match f[0] {
             "pos" => pos = Some(column),
+            "velo" => velo = Some(column),
             "radius" => radius = Some(column),
             _ => {}
         }
         column += count;
     }
-    let (pos, radius) = (pos.expect("pos column"), radius.expect("radius column"));
-    let rows: Vec<(DVec3, f64)> = lines
+    let (pos, velo) = (pos.expect("pos column"), velo.expect("velo column"));
+    let radius = radius.expect("radius column");
+    let rows: Vec<Row> = lines
         .map(|l| {
             let w: Vec<f64> = l
                 .split_whitespace()
@@ -50,7 +60,11 @@ fn snapshot(sim: &Simulation) -> Vec<(DVec3, f64)> {
                 .collect();
             // The first word is the species; columns count from it.
             let at = |k: usize| w[k - 1];
-            (DVec3::new(at(pos), at(pos + 1), at(pos + 2)), at(radius))
+            Row {
+                centre: DVec3::new(at(pos), at(pos + 1), at(pos + 2)),
+                velocity: DVec3::new(at(velo), at(velo + 1), at(velo + 2)),
+                radius: at(radius),
+            }
         })
         .collect();
     assert_eq!(rows.len(), n);
@@ -85,16 +99,43 @@ impl Shapes {
     }
 }
 
+impl Shapes {
+    /// The farthest a centre can get from the origin, the shapes confining it: a container's
+    /// far side, or with planes only the farthest plane point or start, doubled for a fall
+    /// and the walls between (every scene here keeps its spheres within it: `worst` checks).
+    fn reach(&self, w: &World) -> f64 {
+        let far = |p: DVec3| p.length();
+        let vessel = self
+            .containers
+            .iter()
+            .map(|&(c, r)| far(c) + r)
+            .fold(0.0, f64::max);
+        let walls = (self.planes.iter().map(|&(p, _)| far(p)))
+            .chain(self.pillars.iter().map(|&(p, _, r)| far(p) + r))
+            .chain(w.spheres.iter().map(|s| far(s.centre)))
+            .fold(0.0, f64::max);
+        if vessel > 0.0 { vessel } else { 2.0 * walls }
+    }
+}
+
 /// Largest depth, over its tolerance, of any sphere through a shape, past a vessel's wall,
 /// across a plane from `sides` (its side at the start), or of any pair's overlap.
-fn worst(frame: &[(DVec3, f64)], shapes: &Shapes, sides: &[Vec<bool>]) -> (f64, String) {
+fn worst(frame: &[Row], shapes: &Shapes, sides: &[Vec<bool>]) -> (f64, String) {
     let mut worst = (f64::NEG_INFINITY, String::new());
     let mut take = |depth: f64, tolerance: f64, what: &dyn Fn() -> String| {
         if depth / tolerance > worst.0 {
             worst = (depth / tolerance, what());
         }
     };
-    for (i, &(c, r)) in frame.iter().enumerate() {
+    for (
+        i,
+        &Row {
+            centre: c,
+            radius: r,
+            ..
+        },
+    ) in frame.iter().enumerate()
+    {
         let tol = OVERLAP_TOLERANCE * r;
         for (k, &(centre, radius)) in shapes.containers.iter().enumerate() {
             take((c - centre).length() + r - radius, tol, &|| {
@@ -115,7 +156,15 @@ fn worst(frame: &[(DVec3, f64)], shapes: &Shapes, sides: &[Vec<bool>]) -> (f64, 
                 format!("sphere {i} in pillar {k} at {c}")
             });
         }
-        for (j, &(cj, rj)) in frame.iter().enumerate().skip(i + 1) {
+        for (
+            j,
+            &Row {
+                centre: cj,
+                radius: rj,
+                ..
+            },
+        ) in frame.iter().enumerate().skip(i + 1)
+        {
             let d = r + rj;
             take(d - (cj - c).length(), OVERLAP_TOLERANCE * d, &|| {
                 format!("spheres {i} and {j} overlap")
@@ -129,11 +178,22 @@ fn worst(frame: &[(DVec3, f64)], shapes: &Shapes, sides: &[Vec<bool>]) -> (f64, 
 /// returns the statistics and the worst depth over its tolerance. A stall (the watchdog's
 /// error) is returned as such: the caller says whether it may happen.
 fn run(world: World, t_end: f64, every: f64) -> Result<(Stats, f64), (SimError, f64)> {
+    run_balanced(world, t_end, every, None)
+}
+
+/// [`run`], checking each interval's energy balance too where a [`Balance`] is given.
+fn run_balanced(
+    world: World,
+    t_end: f64,
+    every: f64,
+    mut balance: Option<&mut Balance>,
+) -> Result<(Stats, f64), (SimError, f64)> {
     let shapes = Shapes::of(&world);
     let mut sim = Simulation::new(world).unwrap();
-    let sides: Vec<Vec<bool>> = snapshot(&sim)
+    let start = snapshot(&sim);
+    let sides: Vec<Vec<bool>> = start
         .iter()
-        .map(|&(c, _)| {
+        .map(|&Row { centre: c, .. }| {
             shapes
                 .planes
                 .iter()
@@ -141,17 +201,24 @@ fn run(world: World, t_end: f64, every: f64) -> Result<(Stats, f64), (SimError, 
                 .collect()
         })
         .collect();
+    if let Some(b) = balance.as_deref_mut() {
+        b.start(&start);
+    }
     let mut deepest = f64::NEG_INFINITY;
     let mut t = 0.0;
     while t < t_end {
         t = (t + every).min(t_end);
         let result = sim.advance_to(t);
-        let (depth, what) = worst(&snapshot(&sim), &shapes, &sides);
+        let frame = snapshot(&sim);
+        let (depth, what) = worst(&frame, &shapes, &sides);
         assert!(
             depth <= 1.0,
             "t = {}: {what}, {depth:e} tolerances deep",
             sim.time()
         );
+        if let Some(b) = balance.as_deref_mut() {
+            b.check(&frame, &sim.take_events(), sim.time());
+        }
         deepest = deepest.max(depth);
         if let Err(e) = result {
             return Err((e, deepest));
@@ -159,6 +226,97 @@ fn run(world: World, t_end: f64, every: f64) -> Result<(Stats, f64), (SimError, 
     }
     Ok((*sim.stats(), deepest))
 }
+
+/// The energy balance under gravity, from the outputs alone: between two snapshots, the drop
+/// of `K + U` computed from the parsed rows (`Σ ½m|v|² − m g·r`) equals the sum of the event
+/// log's `energy_lost` over the events between them (hops count negative), within the
+/// rounding bound of docs/derivations/gravity.md, "The balance read from the outputs":
+/// `64 u n e_s + (N + 16) u Σ_frames (½m|v|² + |m g·r|)` for `n` events and `N` spheres,
+/// `e_s = K₀ + 3 M ‖g‖ L` the most energy one sphere can hold, `L` the farthest a centre gets
+/// from the origin (`reach`, checked at every snapshot).
+struct Balance {
+    mass: Vec<f64>,
+    g: DVec3,
+    reach: f64,
+    e_s: f64,
+    /// `K + U` of the last snapshot, and the sum of its terms' sizes.
+    last: (f64, f64),
+    events: usize,
+    /// Events whose separation speed a hop raised (restitution read above 1).
+    hops: usize,
+    /// The largest miss over its bound.
+    worst: f64,
+}
+
+impl Balance {
+    fn of(w: &World) -> Option<Self> {
+        let g = w.effects.gravity;
+        if g == DVec3::ZERO || !w.effects.record_events {
+            return None;
+        }
+        let mass: Vec<f64> = w.spheres.iter().map(|s| s.mass).collect();
+        let k0: f64 = (w.spheres.iter())
+            .map(|s| 0.5 * s.mass * s.velocity.length_squared())
+            .sum();
+        let reach = Shapes::of(w).reach(w);
+        let e_s = k0 + 3.0 * mass.iter().sum::<f64>() * g.length() * reach;
+        Some(Self {
+            mass,
+            g,
+            reach,
+            e_s,
+            last: (0.0, 0.0),
+            events: 0,
+            hops: 0,
+            worst: 0.0,
+        })
+    }
+
+    /// `K + U` of a frame and the sum of the sizes of its terms.
+    fn energy(&self, frame: &[Row]) -> (f64, f64) {
+        frame
+            .iter()
+            .zip(&self.mass)
+            .fold((0.0, 0.0), |(e, size), (r, &m)| {
+                let (k, u) = (
+                    0.5 * m * r.velocity.length_squared(),
+                    -m * self.g.dot(r.centre),
+                );
+                (e + k + u, size + k + u.abs())
+            })
+    }
+
+    fn start(&mut self, frame: &[Row]) {
+        self.last = self.energy(frame);
+    }
+
+    fn check(&mut self, frame: &[Row], log: &[EventRecord], now: f64) {
+        let far = frame.iter().map(|r| r.centre.length()).fold(0.0, f64::max);
+        assert!(
+            far <= self.reach,
+            "t = {now}: a centre {far} from the origin"
+        );
+        let (e, size) = self.energy(frame);
+        let lost: f64 = log.iter().map(|r| r.energy_lost).sum();
+        let sums = (frame.len() as f64 + 16.0) * U64 * (size + self.last.1);
+        let bound = 64.0 * U64 * log.len() as f64 * self.e_s + sums;
+        let miss = (self.last.0 - e - lost).abs();
+        assert!(
+            miss <= bound,
+            "t = {now}: K + U fell by {:e}, the {} events logged {lost:e} lost: {miss:e} apart, \
+             beyond the bound {bound:e}",
+            self.last.0 - e,
+            log.len()
+        );
+        self.worst = self.worst.max(miss / bound);
+        self.events += log.len();
+        self.hops += log.iter().filter(|r| r.restitution > 1.0 + 1e-6).count();
+        self.last = (e, size);
+    }
+}
+
+/// f64's unit roundoff.
+const U64: f64 = f64::EPSILON / 2.0;
 
 /// The user's report: one sphere in a vessel of radius 6.
 fn one_in_a_vessel(restitution: f64, tc: f64) -> World {
@@ -246,6 +404,78 @@ fn many_inelastic_spheres_never_leave_their_vessel() {
         walls += stats.wall_collisions;
     }
     assert!(walls > 500_000, "{walls} wall collisions in all");
+}
+
+/// Piles settling under gravity with the TC model, at restitution near 0 and near 1: in a
+/// bowl, and in a box of planes around a pillar. Nothing leaves or goes through, and between
+/// snapshots the energy `K + U` read from them falls by what the event log says the events
+/// took ([`Balance`]): hops included, over about 10⁶ events.
+#[test]
+fn piles_under_gravity_stay_inside_and_their_event_log_balances_their_energy() {
+    let gravity = |w: World, e: f64| World {
+        effects: Effects {
+            response: Response::Inelastic { restitution: e },
+            tc: 1e-3,
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            record_events: true,
+            ..Effects::default()
+        },
+        ..w
+    };
+    let box_around_a_pillar = |seed: u64| {
+        let spheres = generate::random_spheres(
+            DVec3::new(-3.4, -3.4, 0.6),
+            DVec3::new(3.4, 3.4, 8.0),
+            &|p: DVec3| p.truncate().length() > 1.3,
+            60,
+            0.5,
+            1.0,
+            0,
+            seed,
+        )
+        .unwrap();
+        let statics = [
+            ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+            ([-4.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+            ([4.0, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+            ([0.0, -4.0, 0.0], [0.0, 1.0, 0.0]),
+            ([0.0, 4.0, 0.0], [0.0, -1.0, 0.0]),
+        ]
+        .into_iter()
+        .fold(Statics::new(), |s, (p, n)| {
+            s.with(Plane::new(p, n).unwrap(), 0)
+        })
+        .with(Cylinder::new([0.0; 3], [0.0, 0.0, 1.0], 0.7).unwrap(), 0);
+        World {
+            spheres,
+            statics,
+            ..World::default()
+        }
+    };
+    let (mut events, mut hops) = (0, 0);
+    for e in [0.05, 0.95] {
+        for (name, world) in [
+            ("bowl", many_in_a_vessel(120, e, 0.0, 7)),
+            ("box", box_around_a_pillar(7)),
+        ] {
+            let world = gravity(world, e);
+            let mut balance = Balance::of(&world).unwrap();
+            let (_, depth) = run_balanced(world, 10.0, 0.25, Some(&mut balance))
+                .unwrap_or_else(|(err, _)| panic!("{name}, e = {e}: {err}"));
+            assert!(depth < 1e-3, "{name}, e = {e}: {depth:e}");
+            assert!(balance.worst < 1e-3, "{name}, e = {e}: {}", balance.worst);
+            events += balance.events;
+            hops += balance.hops;
+            eprintln!(
+                "{name}, e = {e}: {} events, {} hops, worst miss {:.2e} of its bound",
+                balance.events, balance.hops, balance.worst
+            );
+        }
+    }
+    assert!(
+        events > 1_000_000 && hops > 10_000,
+        "{events} events, {hops} hops"
+    );
 }
 
 /// Sticky beads: each bead that meets a glue wall stops there (infinite mass), and the free
