@@ -251,7 +251,7 @@ fn start_images(world: &World, cells: &Cells, periodic: bool) -> Vec<[i64; 3]> {
     let images: Vec<[i64; 3]> = world
         .spheres
         .iter()
-        .map(|s| (s.centre / cells.len).floor().to_array().map(|k| k as i64))
+        .map(|s| cells.image(s.centre).to_array().map(|k| k as i64))
         .collect();
     if images.iter().all(|k| *k == [0; 3]) {
         Vec::new()

@@ -90,7 +90,14 @@ impl Cells {
     /// which can round up to `L` itself).
     #[inline]
     pub fn wrap(&self, p: DVec3) -> DVec3 {
-        p - self.len * (p / self.len).floor()
+        p - self.len * self.image(p)
+    }
+
+    /// Which periodic image of the box `p` lies in, in whole box lengths (`floor(x/L)`):
+    /// [`wrap`](Self::wrap) takes it away.
+    #[inline]
+    pub fn image(&self, p: DVec3) -> DVec3 {
+        (p / self.len).floor()
     }
 
     /// The (clamped) cell coordinates of a point.
