@@ -260,6 +260,65 @@ fn exact_cases_in_every_mode() {
     }
 }
 
+/// Bodies closing in from within rounding of contact (a new user's trial, 2026-12-07): in
+/// f32 the literal `textbook` root `(−B ∓ √disc)/2A` cancels to `t ≤ 0` and the textbook
+/// kernel answered none, where the others hit within `10⁻⁵`; a sphere then left its container.
+/// Every mode now hits each, within the model's bound of the reference.
+#[test]
+fn closing_in_from_within_rounding_of_contact_is_a_hit_in_every_mode() {
+    let ball = |c: [f32; 3], v: [f32; 3], r: f32| Sphere::new(c, v, r, 1.0).unwrap();
+    let cases = [
+        (
+            ball(
+                [-1.066_741_8, 1.394_534, -1.183_227_1],
+                [1.556_234_7, 0.500_362_04, 0.021_106_685],
+                1.483_226_9,
+            ),
+            Shape::Plane(Plane::new([0.0, 0.0, 0.3], [0.0, 0.0, 1.0]).unwrap()),
+        ),
+        (
+            ball(
+                [-2.082_564_6, -4.128_495, -4.423_045_6],
+                [-0.860_212_2, -0.756_590_1, -1.509_870_2],
+                1.113_020_2,
+            ),
+            Shape::Container(Container::new([0.1, -0.3, 0.2], 7.5).unwrap()),
+        ),
+        (
+            ball(
+                [-2.968_662_7, -3.236_746_5, 3.923_958],
+                [-2.350_431, 0.301_671_95, -1.150_322_6],
+                1.426_205_6,
+            ),
+            Shape::Sphere(ball(
+                [-5.549_704_6, -2.780_023_6, 3.148_502_1],
+                [0.361_639_38, -1.577_906_3, -1.573_797_5],
+                1.307_236_3,
+            )),
+        ),
+        (
+            ball(
+                [-1.978_376_7, -4.440_256, 1.777_090_1],
+                [-1.145_725_7, -0.254_963_73, -0.003_214_094_3],
+                0.562_539_4,
+            ),
+            Shape::Sphere(ball(
+                [-2.500_066, -5.216_861_2, 1.288_757_7],
+                [-0.097_182_214, 1.707_222_3, -0.120_502_934],
+                0.492_801_1,
+            )),
+        ),
+    ];
+    for (sphere, other) in cases {
+        let pair = Pair { sphere, other };
+        assert!(pair.time_of_impact(100.0).is_some(), "reference: {pair:?}");
+        for mode in Accuracy::ALL {
+            assert!(pair.kernel(mode, 100.0).is_some(), "{mode}: none\n{pair:?}");
+            check(&pair, mode, 100.0).unwrap();
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(10000))]
 

@@ -117,6 +117,30 @@ fn spheres_touching_at_start() {
     assert_eq!(sphere_sphere::time_of_impact(&a, &along, 9.0), None);
 }
 
+/// policies.md, "moving towards the contact with the arrival root computed at `t ≤ 0`": the
+/// exact root is ahead by about `C/|B|` (here `10⁻¹⁷/4` and `10⁻¹⁷/8`), which the literal
+/// `(−B ∓ √disc)/2A` cancels to 0: a contact now, not a miss.
+#[test]
+fn closing_in_within_rounding_of_contact_touches_now() {
+    let outside = spheresweep::reference::Quadratic {
+        a: 1.0,
+        b: -4.0,
+        c: 1e-17,
+    };
+    assert_eq!(outside.roots(), Roots::Distinct(0.0, 4.0));
+    assert_eq!(earliest_contact(&outside, Side::Exterior, 9.0), Some(0.0));
+    let inside = spheresweep::reference::Quadratic {
+        a: 1.0,
+        b: 8.0,
+        c: -1e-17,
+    };
+    assert_eq!(inside.roots(), Roots::Distinct(-8.0, 0.0));
+    assert_eq!(earliest_contact(&inside, Side::Interior, 9.0), Some(0.0));
+    // Moving away instead: none, as before.
+    let receding = spheresweep::reference::Quadratic { b: 4.0, ..outside };
+    assert_eq!(earliest_contact(&receding, Side::Exterior, 9.0), None);
+}
+
 #[test]
 fn spheres_without_relative_motion_never_touch() {
     // Same velocity: v = 0 ⇒ A = B = 0, even when overlapping (C = 0.25 − 4 < 0).

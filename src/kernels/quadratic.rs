@@ -218,16 +218,22 @@ impl Solver for Textbook {
         let sqrt = disc.sqrt();
         let two_a = L::splat(2.0) * a;
         let moving = a.gt(zero);
-        let (root, deeper) = match side {
-            Side::Exterior => ((-b - sqrt) / two_a, c.le(zero) & b.lt(zero)),
+        // `towards`: moving towards the contact, where an arrival computed at or before 0 is
+        // the literal formula's cancellation within rounding of 0: a contact now
+        // (reference::earliest_contact).
+        let (root, deeper, towards) = match side {
+            Side::Exterior => ((-b - sqrt) / two_a, c.le(zero) & b.lt(zero), b.lt(zero)),
             // Inside: at or past the wall (C ≥ 0) with no way back in: B ≥ 0 (B = 0:
             // g(t) = A t² + C grows at once), or too slow inwards to get back (disc < 0).
             Side::Interior => (
                 (-b + sqrt) / two_a,
                 c.ge(zero) & (b.ge(zero) | disc.lt(zero)),
+                b.gt(zero),
             ),
         };
-        let ahead = moving & disc.ge(zero) & root.gt(zero);
+        let real = disc.ge(zero);
+        let ahead = moving & real & root.gt(zero);
+        let deeper = deeper | (towards & real & root.le(zero));
         let t = L::select(ahead, root, zero);
         let hit = (ahead | (moving & deeper)) & t.le(t_max);
         (L::select(hit, t, L::splat(f32::INFINITY)), risk)

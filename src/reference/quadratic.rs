@@ -8,10 +8,12 @@
 //! - A root `t > 0` inside the window is the contact. A grazing contact (`B² − 4AC = 0`)
 //!   counts.
 //! - At `t = 0` there is a contact only if the bodies already touch or overlap and no arrival
-//!   lies ahead: outside, when they move deeper (`C ≤ 0, B < 0`, or `B < 0` with the computed
-//!   arrival at or before 0: `C` within rounding of 0); inside a container, when the
+//!   lies ahead: outside, when they move deeper (`C ≤ 0, B < 0`); inside a container, when the
 //!   sphere is at or past the wall (`C ≥ 0`, `A > 0`) and its line does not lead back inside
 //!   (`B ≥ 0`, or `B² − 4AC < 0`). Touching and separating, or at rest, is no contact.
+//! - Moving towards the contact (`B < 0` outside, `B > 0` inside) with the arrival root
+//!   computed at or before 0 is a contact at 0: exactly, the root is ahead, and the computed
+//!   one is the literal formula's cancellation within rounding of 0.
 
 use crate::contact::Side;
 
@@ -163,6 +165,16 @@ pub fn in_contact_now(side: Side, q: &Quadratic) -> bool {
     }
 }
 
+/// Moving towards the contact distance: closing in from outside (`B < 0`), or towards the
+/// wall from inside a container (`B > 0`).
+#[inline]
+fn towards_contact(side: Side, q: &Quadratic) -> bool {
+    match side {
+        Side::Exterior => q.b < 0.0,
+        Side::Interior => q.b > 0.0,
+    }
+}
+
 /// The earliest admissible time of impact in `[0, t_max]`, or `None`, by the policy above.
 ///
 /// ```
@@ -174,6 +186,9 @@ pub fn in_contact_now(side: Side, q: &Quadratic) -> bool {
 /// // Closing in from 10⁻¹⁷ outside: the literal smaller root rounds to 0, a contact now.
 /// let q = Quadratic { a: 1.0, b: -2.0, c: 1e-17 };
 /// assert_eq!(earliest_contact(&q, Side::Exterior, 10.0), Some(0.0));
+/// // 10⁻¹⁷ inside a container's wall and moving outwards: the larger root rounds to 0.
+/// let q = Quadratic { a: 1.0, b: 2.0, c: -1e-17 };
+/// assert_eq!(earliest_contact(&q, Side::Interior, 10.0), Some(0.0));
 /// ```
 pub fn earliest_contact(q: &Quadratic, side: Side, t_max: f64) -> Option<f64> {
     let arrival = match q.roots() {
@@ -188,11 +203,12 @@ pub fn earliest_contact(q: &Quadratic, side: Side, t_max: f64) -> Option<f64> {
     let t = match arrival {
         Some(t) if t > 0.0 => t,
         _ if in_contact_now(side, q) => 0.0,
-        // Outside and closing in with the arrival computed at or before now: exactly, `C > 0`
-        // and `B < 0` put both roots ahead, so a computed `t1 ≤ 0` is the literal formula's
-        // cancellation within rounding of 0 (`C ≈ 5·10⁻¹⁷`: fuzz/regressions/kernels/
+        // Moving towards the contact with the arrival computed at or before now: outside,
+        // `C > 0` and `B < 0` put both roots ahead; inside, `C < 0` and `B > 0` put `t2`
+        // ahead; so the computed arrival `≤ 0` is the literal formula's cancellation within
+        // rounding of 0 (`C ≈ 5·10⁻¹⁷`: fuzz/regressions/kernels/
         // textbook-sphere-touching-a-line-at-start). The bodies touch now.
-        Some(_) if side == Side::Exterior && q.b < 0.0 => 0.0,
+        Some(_) if towards_contact(side, q) => 0.0,
         _ => return None,
     };
     (t <= t_max).then_some(t)
