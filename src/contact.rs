@@ -99,12 +99,14 @@ pub struct Contact {
 }
 
 /// `v` normalised, or `fallback` normalised when `v` is zero (a contact of two point-like
-/// bodies, where the normal is the limit of the direction just before contact).
+/// bodies, where the normal is the limit of the direction just before contact), or `+x` when
+/// both are: only a sphere at rest at the centre of a container too small for it (a contact at
+/// 0 by policy) has neither, and there every direction is a normal.
 #[inline]
 fn unit_or(v: DVec3, fallback: DVec3) -> DVec3 {
     v.try_normalize()
         .or_else(|| fallback.try_normalize())
-        .unwrap_or(DVec3::ZERO)
+        .unwrap_or(DVec3::X)
 }
 
 /// The stored f32 normal normalised again in f64: the f32 normal is unit only to one f32
@@ -246,6 +248,9 @@ pub fn sphere_cylinder_at(sa: &Sphere, cyl: &Cylinder, t: f64) -> Contact {
 /// let ball = Sphere::new([0.0; 3], [0.0, 0.0, 2.0], 1.0, 1.0)?;
 /// let c = sphere_container_at(&ball, &vessel, 2.0);
 /// assert_eq!((c.point.z, c.normal.z), (5.0, -1.0));
+/// // Too large for the vessel, at rest at its centre: every direction is a normal; −x.
+/// let big = Sphere::new([0.0; 3], [0.0; 3], 6.0, 1.0)?;
+/// assert_eq!(sphere_container_at(&big, &vessel, 0.0).normal, glam::DVec3::NEG_X);
 /// # Ok::<(), spheresweep::ShapeError>(())
 /// ```
 pub fn sphere_container_at(s: &Sphere, k: &Container, t: f64) -> Contact {
