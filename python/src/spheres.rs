@@ -213,49 +213,11 @@ impl Spheres {
     /// The spheres `key` selects (an int, a slice, an integer array or a boolean mask, as
     /// NumPy indexes a 1-D array), as a new `Spheres`; an int gives a `Spheres` of one.
     fn __getitem__(&self, key: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let n = self.store.len() as i128;
-        let out_of_range =
-            |i: i128| PyIndexError::new_err(format!("index {i} is out of range for {n} spheres"));
-        // A Python or NumPy int, read whole (NumPy's own reading overflows past 2⁶³).
-        if key.cast::<PyUntypedArray>().is_err()
-            && !crate::args::is_bool(key)
-            && key.hasattr("__index__")?
-        {
-            // Past i128 (`s[2**200]`) too: out of range, as Python's own lists say.
-            let i = crate::args::integer(key, "index")
-                .map_err(|e| PyIndexError::new_err(e.value(key.py()).to_string()))?;
-            let k = if i < 0 { i + n } else { i };
-            if !(0..n).contains(&k) {
-                return Err(out_of_range(i));
-            }
-            return self.select(&[k as i64]);
+        let n = self.store.len();
+        match int_key(key, n)? {
+            Some(k) => self.select(&[k]),
+            None => self.select(&array_key(key, n)?),
         }
-        let numpy = key.py().import("numpy")?;
-        // Unsigned indices are checked before NumPy casts them to signed ones, which reads one
-        // past 2⁶³ as negative (and so in range, from the end).
-        let array = numpy.call_method1("asarray", (key,))?;
-        if array
-            .getattr("dtype")?
-            .getattr("kind")?
-            .extract::<String>()?
-            == "u"
-            && array.getattr("size")?.extract::<usize>()? > 0
-        {
-            let largest = array.call_method0("max")?.call_method0("__int__")?;
-            let largest = largest.extract::<i128>()?;
-            if largest >= n {
-                return Err(out_of_range(largest));
-            }
-        }
-        let all = numpy.call_method1("arange", (self.store.len() as i64,))?;
-        let picked = all.get_item(key)?;
-        let picked = numpy.call_method1("atleast_1d", (picked,))?;
-        let picked: PyReadonlyArrayDyn<'_, i64> = picked.extract()?;
-        let indices = picked
-            .as_slice()
-            .map(<[i64]>::to_vec)
-            .unwrap_or_else(|_| picked.as_array().iter().copied().collect());
-        self.select(&indices)
     }
 
     /// The same spheres in the same order (every field equal).
@@ -321,4 +283,53 @@ impl Spheres {
             ),
         ))
     }
+}
+
+/// `s[i]` out of range, in Python's own words for lists.
+fn out_of_range(i: i128, n: usize) -> PyErr {
+    PyIndexError::new_err(format!("index {i} is out of range for {n} spheres"))
+}
+
+/// A Python or NumPy int key (not a bool, not an array) as an index in `0..n`, counted from
+/// the end if negative; `None` for any other key. Read whole: NumPy's own reading overflows
+/// past 2⁶³, and a key past i128 (`s[2**200]`) is out of range too.
+fn int_key(key: &Bound<'_, PyAny>, n: usize) -> PyResult<Option<i64>> {
+    if key.cast::<PyUntypedArray>().is_ok()
+        || crate::args::is_bool(key)
+        || !key.hasattr("__index__")?
+    {
+        return Ok(None);
+    }
+    let i = crate::args::integer(key, "index")
+        .map_err(|e| PyIndexError::new_err(e.value(key.py()).to_string()))?;
+    let k = if i < 0 { i + n as i128 } else { i };
+    if !(0..n as i128).contains(&k) {
+        return Err(out_of_range(i, n));
+    }
+    Ok(Some(k as i64))
+}
+
+/// The indices a slice, an integer array or a boolean mask selects from `n` spheres, as NumPy
+/// selects them from `arange(n)`. Unsigned indices are checked first: NumPy casts them to
+/// signed ones, which reads one past 2⁶³ as negative (and so in range, from the end).
+fn array_key(key: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<i64>> {
+    let numpy = key.py().import("numpy")?;
+    let array = numpy.call_method1("asarray", (key,))?;
+    let kind = array
+        .getattr("dtype")?
+        .getattr("kind")?
+        .extract::<String>()?;
+    if kind == "u" && array.getattr("size")?.extract::<usize>()? > 0 {
+        let largest = (array.call_method0("max")?.call_method0("__int__")?).extract::<i128>()?;
+        if largest >= n as i128 {
+            return Err(out_of_range(largest, n));
+        }
+    }
+    let picked = numpy.call_method1("arange", (n as i64,))?.get_item(key)?;
+    let picked = numpy.call_method1("atleast_1d", (picked,))?;
+    let picked: PyReadonlyArrayDyn<'_, i64> = picked.extract()?;
+    Ok(picked
+        .as_slice()
+        .map(<[i64]>::to_vec)
+        .unwrap_or_else(|_| picked.as_array().iter().copied().collect()))
 }
