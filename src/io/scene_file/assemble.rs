@@ -389,11 +389,29 @@ impl Origin {
     ) -> Result<Statics<u16>, SceneFileError> {
         let mut out = Statics::new();
         let f32s = |v: [f64; 3]| v.map(|x| x as f32);
+        // Shapes are stored in f32: a finite value beyond its range would round to infinite,
+        // which the constructor could only call "NaN or infinite".
+        let fits = |item: &str, path: &[Seg], key: &str, values: &[f64]| match values
+            .iter()
+            .find(|x| x.is_finite() && x.abs() > f64::from(f32::MAX))
+        {
+            Some(x) => Err(self.item_error(
+                item,
+                path,
+                format!(
+                    "{key} holds {x:e}, beyond the range of f32 (magnitudes up to 3.4e38), \
+                         in which shapes are stored"
+                ),
+            )),
+            None => Ok(()),
+        };
         for (i, p) in planes.iter().enumerate() {
             let item = format!("plane {i}");
             let path = |k| [Key("plane"), At(i), Key(k)];
             let material =
                 self.material_index(names, p.material.as_deref(), &item, &path("material"))?;
+            fits(&item, &path("point"), "point", &p.point)?;
+            fits(&item, &path("normal"), "normal", &p.normal)?;
             let shape = Plane::new(f32s(p.point), f32s(p.normal))
                 .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
             out.push(shape, material);
@@ -403,6 +421,9 @@ impl Origin {
             let path = |k| [Key("cylinder"), At(i), Key(k)];
             let material =
                 self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            fits(&item, &path("p1"), "p1", &c.p1)?;
+            fits(&item, &path("p2"), "p2", &c.p2)?;
+            fits(&item, &path("radius"), "radius", &[c.radius])?;
             let shape = Cylinder::new(f32s(c.p1), f32s(c.p2), c.radius as f32).map_err(|e| {
                 let field = if e.field == "axis" { "p2" } else { e.field };
                 self.shape_error(&item, &path(field), e)
@@ -414,6 +435,8 @@ impl Origin {
             let path = |k| [Key("container"), At(i), Key(k)];
             let material =
                 self.material_index(names, c.material.as_deref(), &item, &path("material"))?;
+            fits(&item, &path("centre"), "centre", &c.centre)?;
+            fits(&item, &path("radius"), "radius", &[c.radius])?;
             let shape = Container::new(f32s(c.centre), c.radius as f32)
                 .map_err(|e| self.shape_error(&item, &path(e.field), e))?;
             out.push(shape, material);

@@ -182,6 +182,23 @@ fn json_names_a_nan_or_an_infinity_it_cannot_read() {
     );
 }
 
+/// Shapes are stored in f32: a finite value beyond its range is named as such, at its line
+/// (a new user's trial: `radius = 1e39` read "container radius is NaN or infinite").
+#[test]
+fn a_shape_value_beyond_f32_is_named_as_such() {
+    let text = "[run]\nt_end = 1\n\n[[container]]\ncentre = [0, 0, 0]\nradius = 1e39\n";
+    let message = toml_error(text);
+    assert!(
+        message.contains("line 6")
+            && message.contains("container 0")
+            && message.contains("radius holds 1e39, beyond the range of f32"),
+        "{message}"
+    );
+    let text = "[run]\nt_end = 1\n\n[[plane]]\npoint = [0, -4e38, 0]\nnormal = [0, 0, 1]\n";
+    let message = toml_error(text);
+    assert!(message.contains("point holds -4e38, beyond"), "{message}");
+}
+
 fn toml_error(text: &str) -> String {
     match SceneFile::from_toml_str(text) {
         Err(e) => e.to_string(),
