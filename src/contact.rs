@@ -92,7 +92,8 @@ pub struct Contact {
     /// The other body's anchor at `time`: B's centre, the container's centre, the foot of A's
     /// centre on the plane, or on the cylinder's axis.
     pub other_anchor: DVec3,
-    /// The contact point, on the surface of both bodies.
+    /// The contact point, on A's surface along the normal: on both bodies' surfaces at a
+    /// contact that arrives, on A's only for bodies that start overlapping (a contact at 0).
     pub point: DVec3,
     /// Unit normal pushing A away from the other body.
     pub normal: DVec3,
