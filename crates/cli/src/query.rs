@@ -269,6 +269,30 @@ impl Input {
         }
     }
 
+    /// The most rows the input's bytes can hold with `columns` values a row: a CSV value takes
+    /// at least two bytes (a digit and a separator), a `.npy` value at least four (f32);
+    /// unbounded for Parquet and Arrow, which may compress. Unbounded too if a size is unknown.
+    fn most_rows(&self, columns: usize) -> u64 {
+        let bytes_a_value = match self {
+            Input::Csv(_) => 2,
+            Input::NpyMatrix(_) | Input::NpyDir(_) | Input::NpyFiles(_) => 4,
+            Input::Parquet(_) | Input::Ipc(_) => return u64::MAX,
+        };
+        let size = |p: &Path| -> Option<u64> {
+            let meta = std::fs::metadata(p).ok()?;
+            if meta.is_dir() {
+                let files = std::fs::read_dir(p).ok()?;
+                files.map(|f| Some(f.ok()?.metadata().ok()?.len())).sum()
+            } else {
+                Some(meta.len())
+            }
+        };
+        let total: Option<u64> = self.paths().into_iter().map(size).sum();
+        total.map_or(u64::MAX, |b| {
+            b / (bytes_a_value * columns as u64).max(1) + 1
+        })
+    }
+
     fn open(&self, layout: Layout, chunk_rows: usize) -> Result<Box<dyn Source>, String> {
         #[cfg(not(feature = "parquet"))]
         let _ = chunk_rows;
@@ -380,12 +404,13 @@ fn shapes_text(s: &Shapes) -> String {
 }
 
 /// Bytes one row of a chunk holds at most, from the types that hold it: its input columns
-/// (f32) and CSV line number, the text of a CSV row (up to 32 bytes a number), two spheres in
-/// stores (eight f32 lanes each), a first-contact record, and the results (time, kind, index,
-/// six geometry values).
-fn row_bytes(input_columns: usize) -> u64 {
+/// (f32) and CSV line number, the text of a CSV row (up to 32 bytes a number; none for the
+/// binary formats), two spheres in stores (eight f32 lanes each), a first-contact record, and
+/// the results (time, kind, index, six geometry values).
+fn row_bytes(input_columns: usize, text: bool) -> u64 {
     use std::mem::size_of;
-    let bytes = input_columns * (size_of::<f32>() + 32)
+    let text = if text { 32 } else { 0 };
+    let bytes = input_columns * (size_of::<f32>() + text)
         + size_of::<u64>()
         + 2 * 8 * size_of::<f32>()
         + size_of::<Option<spheresweep::FirstContact>>()
@@ -461,11 +486,18 @@ impl Plan {
         } else {
             Layout::Pairs
         };
-        crate::memory::check(
-            &format!("--chunk-rows {}", args.chunk_rows),
-            (args.chunk_rows as u64).saturating_mul(row_bytes(layout.columns().len())),
-        )?;
         let input = Input::detect(&args.input)?;
+        // A chunk holds at most the rows the input has room for: a small file is not
+        // refused for the default chunk's memory.
+        let columns = layout.columns().len();
+        let rows = (args.chunk_rows as u64).min(input.most_rows(columns));
+        crate::memory::check(
+            &format!(
+                "--chunk-rows {} ({rows} rows at most in this input)",
+                args.chunk_rows
+            ),
+            rows.saturating_mul(row_bytes(columns, matches!(input, Input::Csv(_)))),
+        )?;
         let (out_path, output) = match &args.out {
             Some(p) => (p.clone(), Output::from_path(p)?),
             None => input.default_output(),

@@ -117,23 +117,29 @@ fn a_query_chunk_too_large_for_memory_is_refused() {
         "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n0,0,0,1,0,0,1,5,0,0,0,0,0,1\n",
     )
     .unwrap();
+    // A file with room for a million rows (64 MiB, sparse: nothing is read before the check).
+    let large = dir.join("large.csv");
+    let file = std::fs::File::create(&large).unwrap();
+    file.set_len(64 << 20).unwrap();
     let out = bin()
         .args(["query", "--chunk-rows", "1000000"])
-        .arg(&input)
+        .arg(&large)
         .env("SPHERESWEEP_MAX_MEMORY", "64M")
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
-        err.contains("--chunk-rows 1000000")
+        err.contains("--chunk-rows 1000000 (1000000 rows at most in this input)")
             && err.contains("needs about")
             && err.contains("64.0 MiB"),
         "{err}"
     );
-    assert!(!dir.join("pairs-toi.csv").exists());
-    // The same chunk fits in 4 GiB, and a small one in 64 MiB.
-    for (rows, limit) in [("1000000", "4G"), ("1000", "64M")] {
+    assert!(!dir.join("large-toi.csv").exists());
+    // The same chunk fits in 4 GiB, and a small one in 64 MiB; and a file of one row is not
+    // refused for a chunk of a million (it holds at most a few rows: a new user's trial had
+    // a 16-row file refused under 700 MiB).
+    for (rows, limit) in [("1000000", "4G"), ("1000", "64M"), ("1000000", "64M")] {
         let out = bin()
             .args(["query", "--chunk-rows", rows])
             .arg(&input)
