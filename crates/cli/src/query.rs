@@ -76,11 +76,17 @@ pub struct Args {
     #[arg(long)]
     geometry: bool,
     /// Rows read, queried and written at a time, 1 to 67 108 864 (2²⁶): memory grows with it
-    /// (about 0.7 KiB a row at most), not with the input. A chunk larger than the memory
+    /// (about 0.3 KiB a row at most, 0.7 from CSV; for at most the rows the input has room
+    /// for), not with the input. A chunk larger than the memory
     /// available (the least of MemAvailable, what ulimit -v and the cgroup's memory limit
     /// leave; or SPHERESWEEP_MAX_MEMORY in bytes, e.g. 512M) is refused.
     #[arg(long, default_value_t = 1 << 20, value_name = "N")]
     chunk_rows: usize,
+    /// Replace an existing output file that is not a query's CSV result (one whose header is
+    /// a result's columns is replaced without it; a directory of .npy columns is replaced
+    /// when it holds only result columns). Default: such a file is refused, naming it.
+    #[arg(long)]
+    force: bool,
 }
 
 /// The most rows a chunk may hold (about 3.5 GiB of pair columns).
@@ -507,6 +513,9 @@ impl Plan {
         let mut inputs = input.paths();
         inputs.extend(args.against.as_deref());
         crate::output::not_an_input(&out_path, &inputs)?;
+        if output != Output::NpyDir && !args.force {
+            replaceable(&out_path)?;
+        }
         if output == Output::NpyDir {
             crate::output::no_input_inside(&out_path, &inputs)?;
         }
@@ -519,6 +528,30 @@ impl Plan {
             output,
         })
     }
+}
+
+/// Refuses an existing output file that is not an earlier CSV result of a query (its first
+/// line names result columns only, `time` first): a user's data would be lost without a word.
+fn replaceable(path: &Path) -> Result<(), String> {
+    use std::io::{BufRead, Read};
+    let Ok(file) = std::fs::File::open(path) else {
+        return Ok(()); // absent (or unreadable: writing it says why)
+    };
+    let mut first = String::new();
+    let _ = std::io::BufReader::new(file.take(4096)).read_line(&mut first);
+    let names: Vec<&str> = first.trim_end().split(',').collect();
+    let result = names.first() == Some(&"time")
+        && names
+            .iter()
+            .all(|n| OutColumn::ALL.iter().any(|c| c.name() == *n));
+    if result {
+        return Ok(());
+    }
+    Err(format!(
+        "the output {} exists and is not a query's CSV result: give --force to replace it, or \
+         another --out",
+        path.display()
+    ))
 }
 
 /// What a query did: counts, and the time spent in each stage.

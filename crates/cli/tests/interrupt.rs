@@ -240,7 +240,8 @@ fn sigterm_stops_query_between_chunks() {
     }
     std::fs::write(&input, text).unwrap();
     let output = dir.join("times.csv");
-    std::fs::write(&output, b"an earlier query").unwrap();
+    // An earlier query's result (a file that is not one is refused without --force).
+    std::fs::write(&output, b"time\n4.0\n").unwrap();
     let mut child = bin()
         .args(["query", "--chunk-rows", "1", "--out"])
         .arg(&output)
@@ -261,7 +262,7 @@ fn sigterm_stops_query_between_chunks() {
         err.contains("interrupted after") && err.contains("chunks"),
         "{err}"
     );
-    assert_eq!(std::fs::read(&output).unwrap(), b"an earlier query");
+    assert_eq!(std::fs::read(&output).unwrap(), b"time\n4.0\n");
     assert_no_temporaries(&dir);
     let _ = std::fs::remove_dir_all(&dir);
 }

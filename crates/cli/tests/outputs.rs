@@ -266,3 +266,36 @@ fn a_killed_renders_temporaries_are_removed_by_the_next_render() {
     assert!(!stale.exists() && kept.exists(), "{:?}", names(&dir));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// An existing file at `--out` is replaced only if it is an earlier CSV result of a query, or
+/// with `--force` (a new user's trial: `--out precious.csv` replaced a data file without a
+/// word); a refused query leaves the file as it was.
+#[test]
+fn query_replaces_only_an_earlier_result_without_force() {
+    let dir = scratch("outputs-replace");
+    let input = dir.join("pairs.csv");
+    std::fs::write(&input, PAIRS).unwrap();
+    for (name, data) in [
+        ("data.csv", &b"precious data\n"[..]),
+        ("t.npy", b"\x93NUMPY"),
+    ] {
+        let out_path = dir.join(name);
+        std::fs::write(&out_path, data).unwrap();
+        let out = spheresweep(&["query", s(&input), "--out", s(&out_path)]);
+        let err = stderr(&out);
+        assert!(
+            !out.status.success() && err.contains("exists and is not a query's CSV result"),
+            "{name}: {err}"
+        );
+        assert_eq!(std::fs::read(&out_path).unwrap(), data, "{name}");
+        let out = spheresweep(&["query", s(&input), "--out", s(&out_path), "--force"]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        assert_ne!(std::fs::read(&out_path).unwrap(), data, "{name}");
+    }
+    // An earlier result is replaced without --force.
+    let result = dir.join("data.csv");
+    let out = spheresweep(&["query", s(&input), "--out", s(&result)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&result).unwrap(), "time\n3.0\n"); // gap 3 at speed 1
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -163,7 +163,7 @@ impl fmt::Display for Place {
 pub enum OutColumn {
     /// Time of impact (f32; +inf: no contact in the window).
     Time,
-    /// Kind of shape touched (spheres against shapes): 1 plane, 2 cylinder, 3 container, 0 none.
+    /// Kind of shape touched (spheres against shapes): 1 plane, 2 cylinder, 3 container, 255 none.
     Kind,
     /// Index of the shape touched among those of its kind (-1: none).
     Index,

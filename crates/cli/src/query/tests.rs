@@ -34,6 +34,7 @@ fn query_bytes(name: &str, bytes: &[u8], spheres: bool) -> Result<(), String> {
         t_max: f32::INFINITY,
         geometry: true,
         chunk_rows: 3,
+        force: false,
     };
     let result = run(&args).map_err(|e| e.to_string());
     let _ = std::fs::remove_dir_all(&dir);
