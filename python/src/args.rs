@@ -17,9 +17,15 @@ pub(crate) fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .unwrap_or_else(|_| "object".into())
 }
 
-/// `TypeError: {name}: expected {what}, got {type of obj}`.
+/// `TypeError: {name}: expected {what}, got {type of obj}`; a NumPy array is described by
+/// its dimensions and dtype (`got a 1-D float64 ndarray`), which its type name does not say.
 pub(crate) fn wrong_type(name: &str, what: &str, obj: &Bound<'_, PyAny>) -> PyErr {
-    PyTypeError::new_err(format!("{name}: expected {what}, got {}", type_name(obj)))
+    use numpy::{PyUntypedArray, PyUntypedArrayMethods};
+    let got = match obj.cast::<PyUntypedArray>() {
+        Ok(a) => format!("a {}-D {} ndarray", a.ndim(), a.dtype()),
+        Err(_) => type_name(obj),
+    };
+    PyTypeError::new_err(format!("{name}: expected {what}, got {got}"))
 }
 
 /// A float the way Python prints it: shortest round trip, exponent form for large values (so

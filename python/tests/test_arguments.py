@@ -26,7 +26,7 @@ def sim():
 
 # (what is called, argument, bad value, exception, message start)
 CASES = [
-    (lambda **k: ss.zip_times(**{"a": ONE, "b": ONE, **k}), "a", np.zeros(3), TypeError, "a: expected a Spheres, got ndarray"),
+    (lambda **k: ss.zip_times(**{"a": ONE, "b": ONE, **k}), "a", np.zeros(3), TypeError, "a: expected a Spheres, got a 1-D float64 ndarray"),
     (lambda **k: ss.zip_times(**{"a": ONE, "b": ONE, **k}), "b", [1, 2], TypeError, "b: expected a Spheres, got list"),
     (lambda **k: ss.zip_times(ONE, ONE, **k), "t_max", "3", TypeError, "t_max: expected a real number, got str"),
     (lambda **k: ss.zip_times(ONE, ONE, **k), "t_max", True, TypeError, "t_max: expected a real number, got bool"),
@@ -34,6 +34,7 @@ CASES = [
     (lambda **k: ss.zip_times(ONE, ONE, **k), "accuracy", 3, TypeError, 'accuracy: expected one of "textbook", "stable", "double", got int'),
     (lambda **k: ss.zip_times(ONE, ONE, **k), "accuracy", "exact", ValueError, 'accuracy: unknown accuracy mode "exact"'),
     (lambda **k: ss.zip_times(ONE, ONE, **k), "out", [0.0], TypeError, "out: expected a 1-D float32 numpy array, got list"),
+    (lambda **k: ss.zip_times(ONE, ONE, **k), "out", np.empty(1, np.float64), TypeError, "out: expected a 1-D float32 numpy array, got a 1-D float64 ndarray"),
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "s", "spheres", TypeError, "s: expected a Spheres, got str"),
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "i", [0.5], TypeError, "i: dtype float64 is not an integer type"),
     (lambda **k: ss.pair_times(**{"s": TWO, "i": [0], "j": [1], **k}), "j", [True], TypeError, "j: dtype bool is not an integer type"),
@@ -43,7 +44,7 @@ CASES = [
     (lambda **k: ss.static_times(**{"s": TWO, "shapes": [FLOOR], **k}), "s", 1, TypeError, "s: expected a Spheres, got int"),
     (lambda **k: ss.static_times(**{"s": TWO, "shapes": [FLOOR], **k}), "shapes", 5, TypeError, "shapes: expected a sequence of shapes, got int"),
     (lambda **k: ss.static_times(TWO, [FLOOR], **k), "accuracy", b"stable", TypeError, "accuracy: expected one of"),
-    (lambda **k: ss.Scene(**{"spheres": TWO, **k}), "spheres", np.zeros((2, 3)), TypeError, "spheres: expected a Spheres, got ndarray"),
+    (lambda **k: ss.Scene(**{"spheres": TWO, **k}), "spheres", np.zeros((2, 3)), TypeError, "spheres: expected a Spheres, got a 2-D float64 ndarray"),
     (lambda **k: ss.Scene(TWO, **k), "planes", [PILLAR], TypeError, "planes[0]: expected a Plane, got Cylinder"),
     (lambda **k: ss.Scene(TWO, **k), "cylinders", [FLOOR], TypeError, "cylinders[0]: expected a Cylinder, got Plane"),
     (lambda **k: ss.Scene(TWO, **k), "containers", 3, TypeError, "containers: expected a sequence of shapes, got int"),
