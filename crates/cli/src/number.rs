@@ -22,11 +22,13 @@ pub fn window_end(text: &str) -> Result<f32, String> {
         .parse()
         .map_err(|_| format!("{text:?} is not a number"))?;
     let rounded = t as f32;
-    Ok(if f64::from(rounded) > t {
+    let end = if f64::from(rounded) > t {
         rounded.next_down()
     } else {
         rounded
-    })
+    };
+    // `-0` is the window [0, 0], said as `0` (adding +0 turns −0 into +0, nothing else).
+    Ok(end + 0.0)
 }
 
 #[cfg(test)]
@@ -41,6 +43,7 @@ mod tests {
         assert!(f64::from(window_end("0.1").unwrap()) < 0.1);
         assert_eq!(window_end("1e39"), Ok(f32::MAX));
         assert_eq!(window_end("inf"), Ok(f32::INFINITY));
+        assert!(window_end("-0").unwrap().is_sign_positive());
         assert!(window_end("-1").unwrap() < 0.0);
         assert!(window_end("nan").unwrap().is_nan());
         assert!(window_end("soon").is_err());
