@@ -275,30 +275,6 @@ impl Input {
         }
     }
 
-    /// The most rows the input's bytes can hold with `columns` values a row: a CSV value takes
-    /// at least two bytes (a digit and a separator), a `.npy` value at least four (f32);
-    /// unbounded for Parquet and Arrow, which may compress. Unbounded too if a size is unknown.
-    fn most_rows(&self, columns: usize) -> u64 {
-        let bytes_a_value = match self {
-            Input::Csv(_) => 2,
-            Input::NpyMatrix(_) | Input::NpyDir(_) | Input::NpyFiles(_) => 4,
-            Input::Parquet(_) | Input::Ipc(_) => return u64::MAX,
-        };
-        let size = |p: &Path| -> Option<u64> {
-            let meta = std::fs::metadata(p).ok()?;
-            if meta.is_dir() {
-                let files = std::fs::read_dir(p).ok()?;
-                files.map(|f| Some(f.ok()?.metadata().ok()?.len())).sum()
-            } else {
-                Some(meta.len())
-            }
-        };
-        let total: Option<u64> = self.paths().into_iter().map(size).sum();
-        total.map_or(u64::MAX, |b| {
-            b / (bytes_a_value * columns as u64).max(1) + 1
-        })
-    }
-
     fn open(&self, layout: Layout, chunk_rows: usize) -> Result<Box<dyn Source>, String> {
         #[cfg(not(feature = "parquet"))]
         let _ = chunk_rows;
@@ -427,6 +403,30 @@ fn row_bytes(input_columns: usize, text: bool) -> u64 {
     bytes as u64
 }
 
+/// Refuses a chunk larger than the memory available, before any is read: `--chunk-rows`
+/// rows, or as many as the input holds where that is fewer — as its header tells (`.npy`,
+/// Parquet), or for CSV as its size has room for (a value takes at least two bytes, a digit
+/// and a separator) — so that a small file is not refused for the default chunk's memory.
+fn check_memory(args: &Args, plan: &Plan, source: &dyn Source) -> Result<(), String> {
+    let columns = plan.layout.columns().len();
+    let csv = match &plan.input {
+        Input::Csv(p) => Some(p),
+        _ => None,
+    };
+    let room = source.total_rows().or_else(|| {
+        let bytes = std::fs::metadata(csv?).ok()?.len();
+        Some(bytes / (2 * columns as u64) + 1)
+    });
+    let rows = (args.chunk_rows as u64).min(room.unwrap_or(u64::MAX));
+    crate::memory::check(
+        &format!(
+            "--chunk-rows {} ({rows} rows at most in this input)",
+            args.chunk_rows
+        ),
+        rows.saturating_mul(row_bytes(columns, csv.is_some())),
+    )
+}
+
 pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     // Ctrl-C and SIGTERM from here on stop the query between two chunks. Installed before
     // the staged output exists: a signal between its creation and the handler would end the
@@ -434,6 +434,7 @@ pub fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     crate::interrupt::install()?;
     let plan = Plan::of(args)?;
     let mut source = plan.input.open(plan.layout, args.chunk_rows)?;
+    check_memory(args, &plan, source.as_ref())?;
     let columns = OutColumn::of(plan.layout, args.geometry);
     let column_names: Vec<&str> = columns.iter().map(|c| c.name()).collect();
     let mut sink = plan.output.create(&plan.out_path, columns)?;
@@ -493,17 +494,6 @@ impl Plan {
             Layout::Pairs
         };
         let input = Input::detect(&args.input)?;
-        // A chunk holds at most the rows the input has room for: a small file is not
-        // refused for the default chunk's memory.
-        let columns = layout.columns().len();
-        let rows = (args.chunk_rows as u64).min(input.most_rows(columns));
-        crate::memory::check(
-            &format!(
-                "--chunk-rows {} ({rows} rows at most in this input)",
-                args.chunk_rows
-            ),
-            rows.saturating_mul(row_bytes(columns, matches!(input, Input::Csv(_)))),
-        )?;
         let (out_path, output) = match &args.out {
             Some(p) => (p.clone(), Output::from_path(p)?),
             None => input.default_output(),

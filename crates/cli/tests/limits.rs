@@ -108,19 +108,27 @@ fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+const PAIR_HEADER: &str = "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n";
+
 #[test]
 fn a_query_chunk_too_large_for_memory_is_refused() {
     let dir = scratch("memory-query");
     let input = dir.join("pairs.csv");
     std::fs::write(
         &input,
-        "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n0,0,0,1,0,0,1,5,0,0,0,0,0,1\n",
+        format!("{PAIR_HEADER}0,0,0,1,0,0,1,5,0,0,0,0,0,1\n"),
     )
     .unwrap();
-    // A file with room for a million rows (64 MiB, sparse: nothing is read before the check).
+    // A file with room for a million rows (a header, then sparse to 64 MiB: no row is read
+    // before the check).
     let large = dir.join("large.csv");
-    let file = std::fs::File::create(&large).unwrap();
-    file.set_len(64 << 20).unwrap();
+    std::fs::write(&large, PAIR_HEADER).unwrap();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&large)
+        .unwrap()
+        .set_len(64 << 20)
+        .unwrap();
     let out = bin()
         .args(["query", "--chunk-rows", "1000000"])
         .arg(&large)

@@ -94,10 +94,13 @@ fn render_and_query_check_against_ulimit_v_too() {
         &[],
     );
     refused_under_ulimit(&out, "20000000 spheres");
-    // 2²² rows of about 0.7 KiB: some 2.8 GiB of chunk, in a file with room for them (sparse:
-    // nothing is read before the check).
+    // 2²² rows of about 0.7 KiB: some 2.8 GiB of chunk, in a file with room for them (a
+    // header, then sparse: no row is read before the check).
     let input = dir.join("pairs.csv");
-    std::fs::File::create(&input)
+    std::fs::write(&input, "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n").unwrap();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&input)
         .unwrap()
         .set_len(256 << 20)
         .unwrap();
