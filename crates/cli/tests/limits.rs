@@ -8,7 +8,7 @@
 mod common;
 mod run_support;
 
-use common::{bin, repo, scratch};
+use common::{PAIR_HEADER, bin, repo, scratch, sparse_pairs_csv};
 
 use glam::DVec3;
 use spheresweep::Container;
@@ -108,8 +108,6 @@ fn a_scene_too_large_for_memory_is_refused_before_it_is_built() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-const PAIR_HEADER: &str = "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n";
-
 #[test]
 fn a_query_chunk_too_large_for_memory_is_refused() {
     let dir = scratch("memory-query");
@@ -122,13 +120,7 @@ fn a_query_chunk_too_large_for_memory_is_refused() {
     // A file with room for a million rows (a header, then sparse to 64 MiB: no row is read
     // before the check).
     let large = dir.join("large.csv");
-    std::fs::write(&large, PAIR_HEADER).unwrap();
-    std::fs::OpenOptions::new()
-        .write(true)
-        .open(&large)
-        .unwrap()
-        .set_len(64 << 20)
-        .unwrap();
+    sparse_pairs_csv(&large, 64 << 20);
     let out = bin()
         .args(["query", "--chunk-rows", "1000000"])
         .arg(&large)

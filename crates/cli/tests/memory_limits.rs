@@ -97,13 +97,7 @@ fn render_and_query_check_against_ulimit_v_too() {
     // 2²² rows of about 0.7 KiB: some 2.8 GiB of chunk, in a file with room for them (a
     // header, then sparse: no row is read before the check).
     let input = dir.join("pairs.csv");
-    std::fs::write(&input, "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n").unwrap();
-    std::fs::OpenOptions::new()
-        .write(true)
-        .open(&input)
-        .unwrap()
-        .set_len(256 << 20)
-        .unwrap();
+    common::sparse_pairs_csv(&input, 256 << 20);
     let out = limited(
         &["query", input.to_str().unwrap(), "--chunk-rows", "4194304"],
         &[],

@@ -80,3 +80,14 @@ pub fn spawn_gas_run(out: &Path, extra: &[&str]) -> Child {
         .spawn()
         .expect("the binary runs")
 }
+
+/// The header of a pairs CSV file.
+pub const PAIR_HEADER: &str = "ax,ay,az,avx,avy,avz,ar,bx,by,bz,bvx,bvy,bvz,br\n";
+
+/// A pairs CSV file of `len` bytes with room for many rows and none written: its header, then
+/// zeros the file system need not store (sparse), for checks made before any row is read.
+pub fn sparse_pairs_csv(path: &Path, len: u64) {
+    std::fs::write(path, PAIR_HEADER).unwrap();
+    let file = std::fs::OpenOptions::new().write(true).open(path).unwrap();
+    file.set_len(len).unwrap();
+}
